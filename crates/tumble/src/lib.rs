@@ -1,0 +1,26 @@
+//! # tumble — rigid-body dynamics as the textbooks derive it
+//!
+//! - [`math`]: frames, rotations, the cross-product matrix (`skew`), quaternion exponential map.
+//! - [`body`]: rigid bodies, mass properties, the Newton–Euler equations (body and world forms).
+//! - [`integrate`]: explicit and semi-implicit Euler, RK4, Dormand–Prince 5(4), and the symplectic
+//!   Lie–Poisson splittings of 2nd and 4th order.
+//! - [`world`]: the world and its step.
+//! - [`scene`]: scene files (TOML/JSON) → [`world::World`], with precise errors.
+//! - [`trajectory`]: CSV and JSON Lines trajectories, the run summary.
+//! - [`analytic`]: exact solutions used as references (torque-free tops, Jacobi elliptic functions).
+//!
+//! Conventions: SI units, `f64`, world z up, quaternions `world_from_body` written `[w, x, y, z]` in
+//! files, angular velocity in the world frame unless a name ends in `_body`.
+#![forbid(unsafe_code)]
+
+pub mod analytic;
+pub mod body;
+pub mod integrate;
+pub mod math;
+pub mod scene;
+pub mod trajectory;
+pub mod world;
+
+pub use body::{BodyState, MassProperties, RigidBody};
+pub use integrate::Integrator;
+pub use world::{World, WorldConfig};

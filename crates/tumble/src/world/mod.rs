@@ -1,0 +1,221 @@
+//! The world: bodies, configuration and the step.
+
+use crate::body::RigidBody;
+use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
+use crate::math::DVec3;
+
+/// Largest position (m), velocity (m/s) or angular velocity (rad/s) magnitude taken as a sane state;
+/// beyond it the simulation is declared diverged (MuJoCo's `mjMAXVAL` bound).
+pub const MAX_STATE_MAGNITUDE: f64 = 1e10;
+
+/// World settings, the `[world]` table of a scene file. Units are SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorldConfig {
+    /// Gravitational acceleration, world frame (m/s²). Default `[0, 0, −9.81]`.
+    pub gravity: DVec3,
+    /// Time step (s); for `dopri5` the largest internal step and the output step. Default `1e-3`.
+    pub dt: f64,
+    /// Simulated time (s). Default `10`.
+    pub duration: f64,
+    /// The integrator. Default `rk4`.
+    pub integrator: Integrator,
+    /// Tolerances of `dopri5`. Default `rtol = 1e-9`, `atol = 1e-12`.
+    pub tolerances: Tolerances,
+    /// Write every k-th step to the trajectory. Default `1`.
+    pub sample_every: u64,
+}
+
+impl Default for WorldConfig {
+    fn default() -> Self {
+        Self {
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            dt: 1e-3,
+            duration: 10.0,
+            integrator: Integrator::Rk4,
+            tolerances: Tolerances::default(),
+            sample_every: 1,
+        }
+    }
+}
+
+/// A `[world]` setting out of range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{field}: {problem} (got {value})")]
+pub struct ConfigError {
+    /// The setting, e.g. `dt`.
+    pub field: &'static str,
+    /// What is wrong with it.
+    pub problem: String,
+    /// The value given, as text.
+    pub value: String,
+}
+
+/// Smallest accepted time step (s).
+pub const MIN_DT: f64 = 1e-9;
+/// Largest accepted number of steps in one run.
+pub const MAX_STEPS: f64 = 1e9;
+
+impl WorldConfig {
+    /// Checks every setting: finite gravity with `|g| ≤ 1e6`, `1e-9 ≤ dt`, `duration ≥ 0`,
+    /// `duration/dt ≤ 1e9` steps, `0 < rtol < 1`, `atol > 0`, `sample_every ≥ 1`.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let bad = |field, problem: &str, value: String| {
+            Err(ConfigError { field, problem: problem.to_string(), value })
+        };
+        if !self.gravity.is_finite() || self.gravity.length() > 1e6 {
+            return bad("gravity", "must be finite with |g| ≤ 1e6 m/s²", format!("{:?}", self.gravity.to_array()));
+        }
+        if !self.dt.is_finite() || self.dt <= 0.0 {
+            return bad("dt", "must be finite and > 0", self.dt.to_string());
+        }
+        if self.dt < MIN_DT {
+            return bad("dt", "must be at least 1e-9 s", self.dt.to_string());
+        }
+        if !self.duration.is_finite() || self.duration < 0.0 {
+            return bad("duration", "must be finite and ≥ 0", self.duration.to_string());
+        }
+        if self.duration / self.dt > MAX_STEPS {
+            let problem = format!("duration/dt = {:e} steps exceeds the cap of 1e9 steps", self.duration / self.dt);
+            return bad("duration", &problem, self.duration.to_string());
+        }
+        let t = self.tolerances;
+        if !(t.rtol.is_finite() && t.rtol > 0.0 && t.rtol < 1.0) {
+            return bad("rtol", "must be in (0, 1)", t.rtol.to_string());
+        }
+        if !(t.atol.is_finite() && t.atol > 0.0) {
+            return bad("atol", "must be finite and > 0", t.atol.to_string());
+        }
+        if self.sample_every == 0 {
+            return bad("sample_every", "must be ≥ 1", "0".into());
+        }
+        Ok(())
+    }
+
+    /// The number of steps that cover `duration`: `round(duration / dt)`.
+    pub fn step_count(&self) -> u64 {
+        (self.duration / self.dt).round() as u64
+    }
+}
+
+/// A simulation stopped because a body's state became non-finite or absurd.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("simulation diverged: body `{body}`: {quantity} at step {step}, t = {time} s")]
+pub struct Diverged {
+    /// The body's name.
+    pub body: String,
+    /// What went wrong, e.g. "velocity is not finite".
+    pub quantity: String,
+    /// The step that produced the bad state (1-based: the state after that step).
+    pub step: u64,
+    /// The time that step reached (s).
+    pub time: f64,
+}
+
+/// Rigid bodies and the settings that move them.
+#[derive(Debug, Clone)]
+pub struct World {
+    /// Settings (units in [`WorldConfig`]).
+    pub config: WorldConfig,
+    /// The bodies, in scene order.
+    pub bodies: Vec<RigidBody>,
+    steps: u64,
+    /// `dopri5`'s proposed internal step per body (s).
+    step_hints: Vec<f64>,
+}
+
+impl World {
+    /// A world with these settings and bodies, at `t = 0`.
+    pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
+        let n = bodies.len();
+        Self { config, bodies, steps: 0, step_hints: vec![0.0; n] }
+    }
+
+    /// Steps taken so far.
+    #[inline]
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Simulated time (s): `steps · dt` (no accumulated round-off).
+    #[inline]
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.config.dt
+    }
+
+    /// Advances the world by one step `dt`:
+    /// 1. integrate every free body's Newton–Euler equations with the chosen integrator;
+    /// 2. check that every state stayed finite and sane.
+    pub fn step(&mut self) -> Result<(), Diverged> {
+        if self.step_hints.len() != self.bodies.len() {
+            self.step_hints.resize(self.bodies.len(), 0.0);
+        }
+        let config = self.config;
+        let time_after = (self.steps + 1) as f64 * config.dt;
+        for (body, hint) in self.bodies.iter_mut().zip(self.step_hints.iter_mut()) {
+            if body.fixed {
+                continue;
+            }
+            let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
+            let advanced =
+                advance_body(config.integrator, config.tolerances, &rhs, &mut body.state, config.dt, hint);
+            let problem = match advanced {
+                Err(e) => Some(format!("the adaptive integrator failed: {e}")),
+                Ok(()) => check_state(body),
+            };
+            if let Some(quantity) = problem {
+                return Err(Diverged { body: body.name.clone(), quantity, step: self.steps + 1, time: time_after });
+            }
+        }
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Total mechanical energy, kinetic plus gravitational potential, of the free bodies (J).
+    pub fn energy(&self) -> f64 {
+        self.free_bodies().map(|b| b.kinetic_energy() + b.potential_energy(self.config.gravity)).sum()
+    }
+
+    /// Total linear momentum of the free bodies, world frame (kg·m/s).
+    pub fn linear_momentum(&self) -> DVec3 {
+        self.free_bodies().map(|b| b.mass.mass * b.state.velocity).sum()
+    }
+
+    /// Total angular momentum of the free bodies about the world origin, world frame (kg·m²/s).
+    pub fn angular_momentum(&self) -> DVec3 {
+        self.free_bodies().map(|b| b.angular_momentum_world()).sum()
+    }
+
+    /// The bodies that move.
+    pub fn free_bodies(&self) -> impl Iterator<Item = &RigidBody> {
+        self.bodies.iter().filter(|b| !b.fixed)
+    }
+
+    /// The index of the body with this name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+}
+
+/// Names the first non-finite or absurd quantity of a body's state, if any.
+#[inline]
+fn check_state(body: &RigidBody) -> Option<String> {
+    let s = &body.state;
+    let checks = [
+        ("position", s.position.is_finite(), s.position.length()),
+        ("orientation", s.orientation.is_finite(), 1.0),
+        ("velocity", s.velocity.is_finite(), s.velocity.length()),
+        ("angular velocity", s.omega_body.is_finite(), s.omega_body.length()),
+    ];
+    for (name, finite, magnitude) in checks {
+        if !finite {
+            return Some(format!("{name} is not finite"));
+        }
+        if magnitude > MAX_STATE_MAGNITUDE {
+            return Some(format!("|{name}| = {magnitude:e} exceeds {MAX_STATE_MAGNITUDE:e}"));
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests;
