@@ -25,12 +25,7 @@ pub fn alpha_body(inertia_body: DVec3, omega_body: DVec3, torque_body: DVec3) ->
 /// Euler's equation in the world frame: `α_world = I_world⁻¹ (τ_world − ω_world × I_world ω_world)` (3.3),
 /// recomputing `I_world = R I_body Rᵀ` and its inverse (rad/s²).
 #[inline]
-pub fn alpha_world(
-    world_from_body: DMat3,
-    inertia_body: DVec3,
-    omega_world: DVec3,
-    torque_world: DVec3,
-) -> DVec3 {
+pub fn alpha_world(world_from_body: DMat3, inertia_body: DVec3, omega_world: DVec3, torque_world: DVec3) -> DVec3 {
     let inertia_world = crate::math::inertia_world(world_from_body, inertia_body);
     let inv_inertia_world = inertia_world.inverse();
     inv_inertia_world * (torque_world - omega_world.cross(inertia_world * omega_world))
@@ -40,12 +35,7 @@ pub fn alpha_world(
 /// on a body in `state`: gravity `m g`, constant forces and torques, point forces (`τ = p × f`),
 /// and damping (`−c m v`, `−c I_body ω_body`).
 #[inline]
-pub fn resultant(
-    mass: &MassProperties,
-    loads: &Loads,
-    state: &BodyState,
-    gravity_world: DVec3,
-) -> (DVec3, DVec3) {
+pub fn resultant(mass: &MassProperties, loads: &Loads, state: &BodyState, gravity_world: DVec3) -> (DVec3, DVec3) {
     let (force_world, torque_body) = applied(mass, loads, state, gravity_world);
     (
         force_world - (loads.linear_damping * mass.mass) * state.velocity,

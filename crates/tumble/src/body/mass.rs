@@ -123,10 +123,7 @@ pub fn check_principal_moments(moments: DVec3) -> Result<(), MassError> {
     // the tightest ordering is the largest moment against the other two
     let slack = sum - 2.0 * largest;
     if slack < -INERTIA_RELATIVE_TOLERANCE * largest {
-        return Err(MassError::TriangleInequality {
-            moments: m,
-            short_by_percent: -slack / largest * 100.0,
-        });
+        return Err(MassError::TriangleInequality { moments: m, short_by_percent: -slack / largest * 100.0 });
     }
     Ok(())
 }

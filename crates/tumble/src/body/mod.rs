@@ -7,8 +7,10 @@
 
 pub mod dynamics;
 pub mod mass;
+pub mod shape;
 
 pub use mass::{MassError, MassProperties};
+pub use shape::{Material, Shape};
 
 use crate::math::{DMat3, DQuat, DVec3};
 
@@ -27,12 +29,8 @@ pub struct BodyState {
 
 impl BodyState {
     /// A body at rest at the origin with the identity orientation.
-    pub const REST: Self = Self {
-        position: DVec3::ZERO,
-        orientation: DQuat::IDENTITY,
-        velocity: DVec3::ZERO,
-        omega_body: DVec3::ZERO,
-    };
+    pub const REST: Self =
+        Self { position: DVec3::ZERO, orientation: DQuat::IDENTITY, velocity: DVec3::ZERO, omega_body: DVec3::ZERO };
 
     /// Angular velocity in the world frame, `ω_world = R ω_body` (rad/s).
     #[inline]
@@ -114,12 +112,24 @@ pub struct RigidBody {
     pub loads: Loads,
     /// A fixed body never moves and is not integrated.
     pub fixed: bool,
+    /// Its shape, if any (user's body axes, centred on the centre of mass).
+    pub shape: Option<Shape>,
+    /// Contact material.
+    pub material: Material,
 }
 
 impl RigidBody {
     /// A free body at rest at the origin with no loads.
     pub fn new(name: impl Into<String>, mass: MassProperties) -> Self {
-        Self { name: name.into(), mass, state: BodyState::REST, loads: Loads::default(), fixed: false }
+        Self {
+            name: name.into(),
+            mass,
+            state: BodyState::REST,
+            loads: Loads::default(),
+            fixed: false,
+            shape: None,
+            material: Material::default(),
+        }
     }
 
     /// Orientation `world_from_user`: the rotation of the axes the user gave (as written in files).

@@ -91,10 +91,7 @@ pub struct UnknownIntegrator {
 impl FromStr for Integrator {
     type Err = UnknownIntegrator;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|i| i.name() == s)
-            .ok_or_else(|| UnknownIntegrator { name: s.to_string() })
+        Self::ALL.into_iter().find(|i| i.name() == s).ok_or_else(|| UnknownIntegrator { name: s.to_string() })
     }
 }
 

@@ -18,7 +18,9 @@ pub fn rk4_step(rhs: &BodyRhs, state: &mut BodyState, h: f64) {
     let slope = StateRate {
         velocity: (k1.velocity + 2.0 * (k2.velocity + k3.velocity) + k4.velocity) / 6.0,
         acceleration: (k1.acceleration + 2.0 * (k2.acceleration + k3.acceleration) + k4.acceleration) / 6.0,
-        orientation_rate: (k1.orientation_rate + 2.0 * (k2.orientation_rate + k3.orientation_rate) + k4.orientation_rate)
+        orientation_rate: (k1.orientation_rate
+            + 2.0 * (k2.orientation_rate + k3.orientation_rate)
+            + k4.orientation_rate)
             / 6.0,
         alpha_body: (k1.alpha_body + 2.0 * (k2.alpha_body + k3.alpha_body) + k4.alpha_body) / 6.0,
     };

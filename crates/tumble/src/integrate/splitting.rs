@@ -103,8 +103,8 @@ fn kick(rhs: &BodyRhs, state: &mut BodyState, l_body: &mut DVec3, t: f64) {
     let loads = rhs.loads;
     let (force_world, torque_body) = applied(rhs.mass, loads, state, rhs.gravity_world);
     // v̇ = f/m − c v  ⇒  v ← e^(−ct) v + φ(c, t) f/m,   φ(c, t) = (1 − e^(−ct))/c
-    state.velocity = decay(loads.linear_damping, t) * state.velocity
-        + phi(loads.linear_damping, t) * (force_world / rhs.mass.mass);
+    state.velocity =
+        decay(loads.linear_damping, t) * state.velocity + phi(loads.linear_damping, t) * (force_world / rhs.mass.mass);
     // L̇ = τ − c L  ⇒  L ← e^(−ct) L + φ(c, t) τ
     *l_body = decay(loads.angular_damping, t) * *l_body + phi(loads.angular_damping, t) * torque_body;
 }

@@ -20,21 +20,13 @@ pub use glamx::{DMat3, DQuat, DVec3, DVec4};
 #[inline]
 pub fn skew(a: DVec3) -> DMat3 {
     // glam matrices are built from columns
-    DMat3::from_cols(
-        DVec3::new(0.0, a.z, -a.y),
-        DVec3::new(-a.z, 0.0, a.x),
-        DVec3::new(a.y, -a.x, 0.0),
-    )
+    DMat3::from_cols(DVec3::new(0.0, a.z, -a.y), DVec3::new(-a.z, 0.0, a.x), DVec3::new(a.y, -a.x, 0.0))
 }
 
 /// The vector `a` of a skew-symmetric matrix `ã` (inverse of [`skew`]); the symmetric part is ignored.
 #[inline]
 pub fn unskew(m: DMat3) -> DVec3 {
-    0.5 * DVec3::new(
-        m.y_axis.z - m.z_axis.y,
-        m.z_axis.x - m.x_axis.z,
-        m.x_axis.y - m.y_axis.x,
-    )
+    0.5 * DVec3::new(m.y_axis.z - m.z_axis.y, m.z_axis.x - m.x_axis.z, m.x_axis.y - m.y_axis.x)
 }
 
 /// A matrix given in frame F expressed in frame G: `M_G = R M_F Rᵀ` with `R = G_from_F`.

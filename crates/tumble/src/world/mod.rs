@@ -59,9 +59,7 @@ impl WorldConfig {
     /// Checks every setting: finite gravity with `|g| ≤ 1e6`, `1e-9 ≤ dt`, `duration ≥ 0`,
     /// `duration/dt ≤ 1e9` steps, `0 < rtol < 1`, `atol > 0`, `sample_every ≥ 1`.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let bad = |field, problem: &str, value: String| {
-            Err(ConfigError { field, problem: problem.to_string(), value })
-        };
+        let bad = |field, problem: &str, value: String| Err(ConfigError { field, problem: problem.to_string(), value });
         if !self.gravity.is_finite() || self.gravity.length() > 1e6 {
             return bad("gravity", "must be finite with |g| ≤ 1e6 m/s²", format!("{:?}", self.gravity.to_array()));
         }
@@ -156,8 +154,7 @@ impl World {
                 continue;
             }
             let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
-            let advanced =
-                advance_body(config.integrator, config.tolerances, &rhs, &mut body.state, config.dt, hint);
+            let advanced = advance_body(config.integrator, config.tolerances, &rhs, &mut body.state, config.dt, hint);
             let problem = match advanced {
                 Err(e) => Some(format!("the adaptive integrator failed: {e}")),
                 Ok(()) => check_state(body),
