@@ -87,9 +87,11 @@ pub fn state_rate(mass: &MassProperties, loads: &Loads, state: &BodyState, gravi
     let (force_world, torque_body) = resultant(mass, loads, state, gravity_world);
     StateRate {
         velocity: state.velocity,
-        acceleration: force_world / mass.mass,
+        acceleration: force_world * mass.inv_mass,
         orientation_rate: crate::math::quat_rate_body(state.orientation, state.omega_body),
-        alpha_body: alpha_body(mass.inertia_body, state.omega_body, torque_body),
+        // α_body = I⁻¹ (τ_body − ω_body × I ω_body), with I⁻¹ computed once
+        alpha_body: (torque_body - state.omega_body.cross(mass.inertia_body * state.omega_body))
+            * mass.inv_inertia_body,
     }
 }
 

@@ -40,6 +40,10 @@ pub struct MassProperties {
     pub inertia_body: DVec3,
     /// Rotation from the principal body axes to the axes the user gave (identity for principal input).
     pub user_from_body: DQuat,
+    /// `1/m` (1/kg), kept beside `m` because the integrators need it every step.
+    pub inv_mass: f64,
+    /// `I_body⁻¹`, the reciprocal principal moments (1/(kg·m²)), computed once (seed §3).
+    pub inv_inertia_body: DVec3,
 }
 
 impl MassProperties {
@@ -47,7 +51,7 @@ impl MassProperties {
     pub fn from_principal(mass: f64, moments: DVec3) -> Result<Self, MassError> {
         check_mass(mass)?;
         check_principal_moments(moments)?;
-        Ok(Self { mass, inertia_body: moments, user_from_body: DQuat::IDENTITY })
+        Ok(Self::new_unchecked(mass, moments, DQuat::IDENTITY))
     }
 
     /// Mass (kg) and a full symmetric inertia tensor about the centre of mass in the user's axes (kg·m²).
@@ -84,13 +88,11 @@ impl MassProperties {
         let z = x.cross(y);
         let user_from_body = DQuat::from_mat3(&DMat3::from_cols(x, y, z)).normalize();
         check_principal_moments(eigen.eigenvalues)?;
-        Ok(Self { mass, inertia_body: eigen.eigenvalues, user_from_body })
+        Ok(Self::new_unchecked(mass, eigen.eigenvalues, user_from_body))
     }
 
-    /// Inverse principal moments `I_body⁻¹` (1/(kg·m²)).
-    #[inline]
-    pub fn inv_inertia_body(&self) -> DVec3 {
-        self.inertia_body.recip()
+    fn new_unchecked(mass: f64, inertia_body: DVec3, user_from_body: DQuat) -> Self {
+        Self { mass, inertia_body, user_from_body, inv_mass: 1.0 / mass, inv_inertia_body: inertia_body.recip() }
     }
 
     /// The inertia tensor in the user's axes, `P I_body Pᵀ` (kg·m²).

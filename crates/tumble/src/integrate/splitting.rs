@@ -37,7 +37,7 @@ pub const YOSHIDA_W0: f64 = -1.702_414_383_919_315_3;
 pub fn splitting_step(rhs: &BodyRhs, state: &mut BodyState, h: f64) {
     let mut l_body = rhs.mass.inertia_body * state.omega_body;
     s2(rhs, state, &mut l_body, h);
-    state.omega_body = l_body / rhs.mass.inertia_body;
+    state.omega_body = l_body * rhs.mass.inv_inertia_body;
     state.orientation = renormalize(state.orientation);
 }
 
@@ -48,7 +48,7 @@ pub fn splitting4_step(rhs: &BodyRhs, state: &mut BodyState, h: f64) {
     s2(rhs, state, &mut l_body, YOSHIDA_W1 * h);
     s2(rhs, state, &mut l_body, YOSHIDA_W0 * h);
     s2(rhs, state, &mut l_body, YOSHIDA_W1 * h);
-    state.omega_body = l_body / rhs.mass.inertia_body;
+    state.omega_body = l_body * rhs.mass.inv_inertia_body;
     state.orientation = renormalize(state.orientation);
 }
 
@@ -60,27 +60,27 @@ fn s2(rhs: &BodyRhs, state: &mut BodyState, l_body: &mut DVec3, h: f64) {
     }
     // drift: x ← x + h v, and the free rotation F(h)
     state.position += h * state.velocity;
-    free_rotation(rhs.mass.inertia_body, &mut state.orientation, l_body, h);
+    free_rotation(rhs.mass.inv_inertia_body, &mut state.orientation, l_body, h);
     if loaded {
         kick(rhs, state, l_body, 0.5 * h);
     }
 }
 
 /// The free rotation `X1(h/2) X2(h/2) X3(h) X2(h/2) X1(h/2)`: exact sub-rotations about the
-/// principal axes.
+/// principal axes (`inv_inertia_body`: the reciprocal principal moments, 1/(kg·m²)).
 #[inline]
-pub fn free_rotation(inertia_body: DVec3, orientation: &mut DQuat, l_body: &mut DVec3, h: f64) {
-    axis_rotation::<0>(inertia_body, orientation, l_body, 0.5 * h);
-    axis_rotation::<1>(inertia_body, orientation, l_body, 0.5 * h);
-    axis_rotation::<2>(inertia_body, orientation, l_body, h);
-    axis_rotation::<1>(inertia_body, orientation, l_body, 0.5 * h);
-    axis_rotation::<0>(inertia_body, orientation, l_body, 0.5 * h);
+pub fn free_rotation(inv_inertia_body: DVec3, orientation: &mut DQuat, l_body: &mut DVec3, h: f64) {
+    axis_rotation::<0>(inv_inertia_body, orientation, l_body, 0.5 * h);
+    axis_rotation::<1>(inv_inertia_body, orientation, l_body, 0.5 * h);
+    axis_rotation::<2>(inv_inertia_body, orientation, l_body, h);
+    axis_rotation::<1>(inv_inertia_body, orientation, l_body, 0.5 * h);
+    axis_rotation::<0>(inv_inertia_body, orientation, l_body, 0.5 * h);
 }
 
 /// The exact flow of `T_i = L_i²/(2 I_i)` for a time `t`: a rotation by `θ = t L_i / I_i` about body axis `i`.
 #[inline]
-fn axis_rotation<const I: usize>(inertia_body: DVec3, q: &mut DQuat, l_body: &mut DVec3, t: f64) {
-    let theta = t * l_body[I] / inertia_body[I];
+fn axis_rotation<const I: usize>(inv_inertia_body: DVec3, q: &mut DQuat, l_body: &mut DVec3, t: f64) {
+    let theta = t * l_body[I] * inv_inertia_body[I];
     let (s, c) = (0.5 * theta).sin_cos();
     // q ← q ⊗ (cos θ/2, sin θ/2 e_i)
     let r = match I {
@@ -103,8 +103,8 @@ fn kick(rhs: &BodyRhs, state: &mut BodyState, l_body: &mut DVec3, t: f64) {
     let loads = rhs.loads;
     let (force_world, torque_body) = applied(rhs.mass, loads, state, rhs.gravity_world);
     // v̇ = f/m − c v  ⇒  v ← e^(−ct) v + φ(c, t) f/m,   φ(c, t) = (1 − e^(−ct))/c
-    state.velocity =
-        decay(loads.linear_damping, t) * state.velocity + phi(loads.linear_damping, t) * (force_world / rhs.mass.mass);
+    state.velocity = decay(loads.linear_damping, t) * state.velocity
+        + phi(loads.linear_damping, t) * (force_world * rhs.mass.inv_mass);
     // L̇ = τ − c L  ⇒  L ← e^(−ct) L + φ(c, t) τ
     *l_body = decay(loads.angular_damping, t) * *l_body + phi(loads.angular_damping, t) * torque_body;
 }

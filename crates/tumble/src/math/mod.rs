@@ -65,19 +65,22 @@ pub fn quat_rate_body(q: DQuat, omega_body: DVec3) -> DVec4 {
 
 /// The exponential map: the unit quaternion of a rotation by `|φ|` radians about `φ/|φ|`.
 ///
-/// `exp(φ) = (cos(|φ|/2), sin(|φ|/2) φ/|φ|)`, with the series of `sin(x)/x` near zero so that
-/// small rotations lose no digits.
+/// `exp(φ) = (cos(|φ|/2), sin(|φ|/2) φ/|φ|)`. For `|φ|/2 < 0.1` (every step of a simulation that
+/// resolves its rotations) `sin(x)/x` and `cos(x)` come from their Taylor series to `x⁸` and `x¹⁰`,
+/// whose truncation errors (`< x¹⁰/11! < 3e-18` and `< x¹²/12! < 3e-21`) are below round-off: the
+/// result is as accurate as `sin_cos`, loses no digits as `φ → 0`, and costs a few multiplications.
 #[inline]
 pub fn quat_exp(phi: DVec3) -> DQuat {
-    let half_angle_sq = 0.25 * phi.length_squared();
-    let (sinc_half, cos_half) = if half_angle_sq < 1e-8 {
-        // sin(x)/x = 1 − x²/6 + x⁴/120 (next term x⁶/5040 < 3e-29 here), cos x = 1 − x²/2 + x⁴/24
-        (
-            0.5 * (1.0 - half_angle_sq / 6.0 + half_angle_sq * half_angle_sq / 120.0),
-            1.0 - 0.5 * half_angle_sq + half_angle_sq * half_angle_sq / 24.0,
-        )
+    let x2 = 0.25 * phi.length_squared();
+    let (sinc_half, cos_half) = if x2 < 0.01 {
+        // sin(x)/x = 1 − x²/3! + x⁴/5! − x⁶/7! + x⁸/9!
+        let sinc = 1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362880.0))));
+        // cos(x) = 1 − x²/2! + x⁴/4! − x⁶/6! + x⁸/8! − x¹⁰/10!
+        let cos = 1.0
+            + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40320.0 + x2 * (-1.0 / 3628800.0)))));
+        (0.5 * sinc, cos)
     } else {
-        let half_angle = half_angle_sq.sqrt();
+        let half_angle = x2.sqrt();
         let (s, c) = half_angle.sin_cos();
         (0.5 * s / half_angle, c)
     };

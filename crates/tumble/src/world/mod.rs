@@ -197,6 +197,15 @@ impl World {
 #[inline]
 fn check_state(body: &RigidBody) -> Option<String> {
     let s = &body.state;
+    // squared magnitudes: a NaN fails the `<=` test too, so the common case costs four comparisons
+    let max2 = MAX_STATE_MAGNITUDE * MAX_STATE_MAGNITUDE;
+    let sane = s.position.length_squared() <= max2
+        && s.velocity.length_squared() <= max2
+        && s.omega_body.length_squared() <= max2
+        && s.orientation.length_squared() <= 4.0;
+    if sane {
+        return None;
+    }
     let checks = [
         ("position", s.position.is_finite(), s.position.length()),
         ("orientation", s.orientation.is_finite(), 1.0),

@@ -1,0 +1,37 @@
+//! Body-steps per second of `World::step` on N free tumbling bodies under gravity (default 10,000),
+//! per integrator, best of five rounds, no output.
+//! `cargo run --release -p tumble --example many -- [N]`
+use tumble::math::{DQuat, DVec3};
+use tumble::*;
+fn main() {
+    let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(10_000);
+    let steps = 2_000_000 / n;
+    for integ in Integrator::ALL {
+        let mut bodies = Vec::with_capacity(n);
+        for i in 0..n {
+            let f = i as f64 / n as f64;
+            let mp = MassProperties::from_principal(1.0 + f, DVec3::new(1.0, 2.0 + f, 3.0 + f)).unwrap();
+            let mut b = RigidBody::new(format!("b{i}"), mp);
+            b.state.position = DVec3::new(i as f64, 0.0, 0.0);
+            b.state.orientation = DQuat::from_rotation_x(f);
+            b.state.velocity = DVec3::new(0.0, 1.0, 2.0);
+            b.state.omega_body = DVec3::new(0.3, 2.0 + f, 0.1);
+            bodies.push(b);
+        }
+        let cfg = WorldConfig { dt: 1e-3, integrator: integ, ..Default::default() };
+        let mut w = World::new(cfg, bodies);
+        // best of 5 rounds: the machine may be busy
+        let mut el = f64::INFINITY;
+        for _ in 0..5 {
+            let t0 = std::time::Instant::now();
+            for _ in 0..steps {
+                w.step().unwrap();
+            }
+            el = el.min(t0.elapsed().as_secs_f64());
+        }
+        let line = format!("{:20} {:8.2} M body-steps/s\n", integ.name(), (n * steps) as f64 / el / 1e6);
+        if std::io::Write::write_all(&mut std::io::stdout(), line.as_bytes()).is_err() {
+            return;
+        }
+    }
+}
