@@ -6,7 +6,7 @@
 //! converted here, once, from the user's axes to the principal axes.
 
 use super::error::{nearest, num, nums, SceneError, Source};
-use super::schema::{BodyDoc, Loc, PointForceDoc, Vec3Doc};
+use super::schema::{BodyDoc, Loc, PointForceDoc, Table, Vec3Doc};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, MAX_SPEED, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::body::{Frame, MassProperties, Material, PointForce, RigidBody, Shape};
 use crate::math::{DMat3, DQuat, DVec3};
@@ -343,7 +343,12 @@ impl BodyReader<'_, '_> {
         Ok(())
     }
 
-    fn point_force(&self, k: usize, loc: &Loc<PointForceDoc>, body_from_user: DQuat) -> Result<PointForce, SceneError> {
+    fn point_force(
+        &self,
+        k: usize,
+        loc: &Loc<Table<PointForceDoc>>,
+        body_from_user: DQuat,
+    ) -> Result<PointForce, SceneError> {
         let key = |field: &str| format!("point_force[{k}].{field}");
         let pf = &loc.value;
         let Some(point_user) = self.finite3(&key("point"), &pf.point)? else {

@@ -4,7 +4,7 @@
 use super::body::BodyReader;
 use super::error::{nearest, num, nums, SceneError, Source};
 use super::grid;
-use super::schema::{Loc, SceneDoc, WorldDoc};
+use super::schema::{Loc, SceneDoc, Table, WorldDoc};
 use super::{Format, Scene};
 use crate::integrate::{Integrator, Tolerances};
 use crate::math::DVec3;
@@ -92,7 +92,7 @@ fn check_version(src: &Source, doc: &SceneDoc) -> Result<(), SceneError> {
 fn body_name<'d>(
     src: &Source,
     path: &str,
-    entry: &'d Loc<super::schema::BodyDoc>,
+    entry: &'d Loc<Table<super::schema::BodyDoc>>,
 ) -> Result<&'d Loc<String>, SceneError> {
     match &entry.value.name {
         Some(n) if !n.value.trim().is_empty() => Ok(n),
@@ -126,7 +126,7 @@ fn duplicate(
 /// `[world]` → a validated [`WorldConfig`]; missing keys take `WorldConfig::default()`.
 fn world_config(
     src: &Source,
-    doc: Option<&Loc<WorldDoc>>,
+    doc: Option<&Loc<Table<WorldDoc>>>,
     warnings: &mut Vec<String>,
 ) -> Result<WorldConfig, SceneError> {
     let mut config = WorldConfig::default();

@@ -181,7 +181,7 @@ impl Source<'_> {
             None => &text,
         };
         let (problem, hint) = reword_serde(message);
-        let position = (err.line() > 0).then(|| LineCol { line: err.line(), column: err.column() });
+        let position = (err.line() > 0).then(|| LineCol { line: err.line(), column: err.column().max(1) });
         let e = SceneError::bare(self.origin, position, path, problem);
         match hint {
             Some(h) => e.hint(h),
@@ -232,13 +232,15 @@ fn reword_serde(message: &str) -> (String, Option<String>) {
 
 /// The candidate closest to `word`, if it is close enough to be a likely typo.
 pub(crate) fn nearest<'c>(word: &str, candidates: &[&'c str]) -> Option<&'c str> {
+    // a small edit distance catches typos (`mas`, `gravtiy`); Jaro–Winkler catches other forms
+    // of the same word (`bodies` for `body`)
     let limit = (word.chars().count() / 3).max(2);
     candidates
         .iter()
-        .map(|c| (strsim::damerau_levenshtein(word, c), *c))
-        .filter(|(d, _)| *d <= limit)
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, c)| c)
+        .map(|c| (strsim::damerau_levenshtein(word, c), strsim::jaro_winkler(word, c), *c))
+        .filter(|(d, jw, _)| *d <= limit || *jw >= 0.8)
+        .min_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
+        .map(|(_, _, c)| c)
 }
 
 /// A float as written in messages (`NaN`, `inf`, `-1`, `0.25`).

@@ -16,7 +16,7 @@
 
 use super::body::BodyReader;
 use super::error::{nums, SceneError, Source};
-use super::schema::{GridDoc, Loc, SceneDoc};
+use super::schema::{GridDoc, Loc, SceneDoc, Table};
 use super::{MAX_BODIES, MAX_POSITION};
 use crate::body::RigidBody;
 use crate::math::DVec3;
@@ -77,7 +77,7 @@ pub(crate) fn total_bodies(src: &Source, doc: &SceneDoc) -> Result<usize, SceneE
 pub(crate) fn expand(
     src: &Source,
     g: usize,
-    grid: &Loc<GridDoc>,
+    grid: &Loc<Table<GridDoc>>,
     warnings: &mut Vec<String>,
     bodies: &mut Vec<RigidBody>,
 ) -> Result<String, SceneError> {

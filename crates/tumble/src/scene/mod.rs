@@ -157,7 +157,9 @@ pub fn from_str(text: &str, origin: &str, format: Format) -> Result<Scene, Scene
 fn parse_toml(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
     let de = toml::Deserializer::parse(src.text).map_err(|e| src.from_toml(&e, String::new()))?;
     let _spans = schema::SpanGuard::enable();
-    serde_path_to_error::deserialize(de).map_err(|e| src.from_toml(e.inner(), error::path_text(e.path())))
+    let doc: schema::Table<schema::SceneDoc> =
+        serde_path_to_error::deserialize(de).map_err(|e| src.from_toml(e.inner(), error::path_text(e.path())))?;
+    Ok(doc.0)
 }
 
 fn parse_json(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
@@ -165,10 +167,10 @@ fn parse_json(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
         return Ok(schema::SceneDoc::default());
     }
     let mut de = serde_json::Deserializer::from_str(src.text);
-    let doc =
+    let doc: schema::Table<schema::SceneDoc> =
         serde_path_to_error::deserialize(&mut de).map_err(|e| src.from_json(e.inner(), error::path_text(e.path())))?;
     de.end().map_err(|e| src.from_json(&e, String::new()))?;
-    Ok(doc)
+    Ok(doc.0)
 }
 
 /// The built-in demo scene (`scenes/demo.toml`): in zero gravity, a box with principal moments

@@ -56,6 +56,34 @@ impl<'de, T: Deserialize<'de>> Deserialize<'de> for Loc<T> {
     }
 }
 
+/// A table (`{...}` in JSON): serde would also read a struct from an array, by position, which
+/// would accept `body = [["a", 1.0]]`; this wrapper accepts only tables.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table<T>(pub T);
+
+impl<T> std::ops::Deref for Table<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Table<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TableVisitor<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for TableVisitor<T> {
+            type Value = Table<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table (an object in JSON)")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Table<T>, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(Table)
+            }
+        }
+        deserializer.deserialize_map(TableVisitor(std::marker::PhantomData))
+    }
+}
+
 /// A three-vector as written in files, `[x, y, z]`.
 pub type Vec3Doc = Loc<[f64; 3]>;
 
@@ -66,13 +94,13 @@ pub struct SceneDoc {
     /// Format version; required, must be 1.
     pub version: Option<Loc<i64>>,
     /// `[world]`: settings (defaults from `WorldConfig::default()`).
-    pub world: Option<Loc<WorldDoc>>,
+    pub world: Option<Loc<Table<WorldDoc>>>,
     /// `[[body]]`: the bodies, in order.
     #[serde(default)]
-    pub body: Vec<Loc<BodyDoc>>,
+    pub body: Vec<Loc<Table<BodyDoc>>>,
     /// `[[grid]]`: generated blocks of identical bodies, appended after the `[[body]]` entries.
     #[serde(default)]
-    pub grid: Vec<Loc<GridDoc>>,
+    pub grid: Vec<Loc<Table<GridDoc>>>,
 }
 
 impl SceneDoc {
@@ -111,7 +139,7 @@ pub struct BodyDoc {
     pub inertia: Option<Vec3Doc>,
     /// Full symmetric tensor about the centre of mass, user's body axes (kg·m²), rows.
     pub inertia_tensor: Option<Loc<[[f64; 3]; 3]>>,
-    pub shape: Option<Loc<ShapeDoc>>,
+    pub shape: Option<Loc<Table<ShapeDoc>>>,
     /// Centre of mass, world frame (m).
     pub position: Option<Vec3Doc>,
     /// `world_from_user`, `[w, x, y, z]`.
@@ -139,7 +167,7 @@ pub struct BodyDoc {
     pub angular_damping: Option<Loc<f64>>,
     /// `[[body.point_force]]`.
     #[serde(default)]
-    pub point_force: Vec<Loc<PointForceDoc>>,
+    pub point_force: Vec<Loc<Table<PointForceDoc>>>,
 }
 
 /// `shape = { type = "...", ... }`; which sizes a type needs is checked when building.
@@ -179,5 +207,5 @@ pub struct GridDoc {
     /// Position of copy `(0, 0, 0)`, world frame (m).
     pub origin: Option<Vec3Doc>,
     /// The template; its `name` becomes `name_i_j_k`.
-    pub body: Loc<BodyDoc>,
+    pub body: Loc<Table<BodyDoc>>,
 }
