@@ -31,8 +31,11 @@ fn g(x: f64) -> String {
     }
 }
 
+/// A vector; components below 1e-12 of the largest are round-off of a frame change and shown as 0.
 fn v3(v: DVec3) -> String {
-    format!("[{}, {}, {}]", g(v.x), g(v.y), g(v.z))
+    let scale = v.abs().max_element();
+    let c = |x: f64| g(if x.abs() <= 1e-12 * scale { 0.0 } else { x });
+    format!("[{}, {}, {}]", c(v.x), c(v.y), c(v.z))
 }
 
 /// `[w, x, y, z]`, as in files.
