@@ -59,3 +59,18 @@ fn many_has_ten_thousand_free_bodies_and_a_thousand_steps() {
     assert_eq!(many.world.config.step_count(), 1000);
     assert_eq!(many.world.config.sample_every, 1000);
 }
+
+/// The first TOML example and the JSON example of `docs/scene-format.md` are valid scenes.
+#[test]
+fn the_examples_in_the_format_doc_load() {
+    let doc = std::fs::read_to_string(scenes_dir().join("../docs/scene-format.md")).expect("the format doc");
+    let block = |fence: &str| -> String {
+        let start = doc.find(fence).unwrap_or_else(|| panic!("no {fence} block")) + fence.len();
+        let end = doc[start..].find("```").expect("a closing fence") + start;
+        doc[start..end].to_string()
+    };
+    let toml = scene::from_str(&block("```toml\n"), "doc.toml", scene::Format::Toml).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(toml.world.bodies[0].name, "racket");
+    let json = scene::from_str(&block("```json\n"), "doc.json", scene::Format::Json).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(json.world.bodies.len(), 1 + 8);
+}
