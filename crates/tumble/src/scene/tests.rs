@@ -78,6 +78,20 @@ fn tensor_is_diagonalised_and_user_axes_are_kept() {
     close(b.state.omega_world(), world_from_user * omega_user, 1e-14);
 }
 
+/// Without `orientation`, the user's axes are the world's, also when the principal axes differ.
+#[test]
+fn tensor_without_orientation_keeps_the_user_axes_on_the_world_axes() {
+    let text = "version = 1\n[[body]]\nname = \"t\"\nmass = 1.0\n\
+        inertia_tensor = [[2.25, -0.4330127018922193, 0.0], [-0.4330127018922193, 2.75, 0.0], [0.0, 0.0, 4.0]]\n\
+        angular_velocity_body = [1.0, 0.2, 0.5]\n";
+    let b = &toml(text).world.bodies[0];
+    assert!(b.mass.user_from_body.angle_between(DQuat::IDENTITY) > 1e-3);
+    assert!(b.orientation_user().angle_between(DQuat::IDENTITY) < 1e-12, "{:?}", b.orientation_user());
+    close(b.state.omega_world(), DVec3::new(1.0, 0.2, 0.5), 1e-14);
+    let d = toml(text).describe();
+    assert!(d.contains("orientation  [1, 0, 0, 0]"), "{d}");
+}
+
 #[test]
 fn angular_velocity_world_versus_body() {
     let body = "version = 1\n[[body]]\nname = \"b\"\nmass = 1.0\ninertia = [1.0, 2.0, 2.5]\n\
