@@ -96,3 +96,20 @@ fn the_demo_flips() {
     assert!(flips >= 3, "the intermediate-axis spin flipped {flips} times in 30 s");
     assert!(stable_min_wz > 4.9, "the major-axis spin wandered: min ω_z = {stable_min_wz}");
 }
+
+/// `projectile.toml` follows the parabola its comment states.
+#[test]
+fn the_projectile_follows_the_parabola() {
+    let mut world = scene::load(&scenes_dir().join("projectile.toml")).expect("projectile.toml").world;
+    let ball = &world.bodies[0];
+    let m = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.1f64.powi(3);
+    assert!((ball.mass.mass - m).abs() < 1e-12 * m);
+    for _ in 0..world.config.step_count() {
+        world.step().expect("steps");
+    }
+    let t = world.time();
+    let p = world.bodies[0].state.position;
+    let expected = DVec3::new(10.0 * t, 0.0, 10.0 * t - 0.5 * 9.81 * t * t);
+    assert!((p - expected).length() < 1e-9, "{p:?} != {expected:?} at t = {t}");
+    assert!((world.bodies[0].state.omega_world() - DVec3::new(0.0, 20.0, 0.0)).length() < 1e-9);
+}
