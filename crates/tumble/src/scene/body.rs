@@ -256,7 +256,7 @@ impl BodyReader<'_, '_> {
         }
         if fixed {
             // a fixed body is never integrated: its mass properties are a placeholder
-            return Ok(MassProperties { mass: 1.0, inertia_body: DVec3::ONE, user_from_body: DQuat::IDENTITY });
+            return Ok(MassProperties::from_principal(1.0, DVec3::ONE).expect("unit mass properties are valid"));
         }
         Err(self
             .src
