@@ -31,11 +31,11 @@ pub struct RunArgs {
     pub scene: Option<PathBuf>,
 
     /// Simulated time in seconds (overrides [world] duration).
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub duration: Option<f64>,
 
     /// Time step in seconds (overrides [world] dt).
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub dt: Option<f64>,
 
     /// Integrator (overrides [world] integrator): euler, semi_implicit_euler, rk4, dopri5, splitting,
@@ -45,7 +45,7 @@ pub struct RunArgs {
 
     /// Write every K-th step to the trajectory (overrides [world] sample_every); the first and the
     /// last state are always written.
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub sample_every: Option<u64>,
 
     /// Trajectory file: FILE.csv or FILE.jsonl [default: out/<scene name>.csv, out/demo.csv for the demo]
