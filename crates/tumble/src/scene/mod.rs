@@ -1,10 +1,73 @@
 //! Scene files (TOML or JSON, `version = 1`) → [`World`], with precise errors.
 //!
-//! PLACEHOLDER API (being implemented): the signatures below are the contract between the scene
-//! loader and the command-line tool.
+//! The format is specified key by key in `docs/scene-format.md`. In short: `version = 1`, a `[world]`
+//! table of settings, `[[body]]` entries (mass properties, shape, initial state, loads) and
+//! `[[grid]]` entries that generate blocks of identical bodies. Every float is checked to be finite,
+//! every physical quantity to be in range, unknown keys are rejected with the nearest valid key, and
+//! every error names the file, the line and column (TOML) or the field path (JSON), and the field.
+//!
+//! Modules: [`schema`] (the file as written), `build` (scene and world), `body` (one body), `grid`
+//! (the generator), [`error`] (messages), `describe` (the account printed by `tumble check`).
+
+mod body;
+mod build;
+mod describe;
+pub mod error;
+mod grid;
+pub mod schema;
+
+pub use error::{LineCol, SceneError};
 
 use crate::world::World;
+use std::io::Read;
 use std::path::Path;
+
+/// Largest TOML scene file read (bytes): parsing TOML costs 30–50× the file size in memory.
+pub const MAX_TOML_BYTES: u64 = 64 << 20;
+/// Largest JSON scene file read (bytes).
+pub const MAX_JSON_BYTES: u64 = 512 << 20;
+/// Largest number of bodies a scene may have (explicit plus generated).
+pub const MAX_BODIES: u64 = 10_000_000;
+/// Largest initial distance of a centre of mass from the world origin (m).
+pub const MAX_POSITION: f64 = 1e10;
+/// Largest initial speed (m/s).
+pub const MAX_SPEED: f64 = 1e8;
+/// Largest initial angular speed (rad/s).
+pub const MAX_ANGULAR_SPEED: f64 = 1e8;
+/// Quaternions with `| |q| − 1 |` up to this are normalised silently (round-off in the file).
+pub const QUAT_SILENT_TOLERANCE: f64 = 1e-9;
+/// Quaternions with `| |q| − 1 |` up to this are normalised with a warning; beyond it, an error.
+pub const QUAT_WARN_TOLERANCE: f64 = 1e-3;
+
+/// The built-in demo scene's text (`scenes/demo.toml`).
+pub const DEMO_TOML: &str = include_str!("../../../../scenes/demo.toml");
+
+/// The syntax of a scene file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Toml,
+    Json,
+}
+
+impl Format {
+    /// The format a path's extension names (`.toml`, `.json`, any case).
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "toml" => Some(Format::Toml),
+            "json" => Some(Format::Json),
+            _ => None,
+        }
+    }
+
+    /// The largest file of this format that is read (bytes).
+    pub fn max_bytes(self) -> u64 {
+        match self {
+            Format::Toml => MAX_TOML_BYTES,
+            Format::Json => MAX_JSON_BYTES,
+        }
+    }
+}
 
 /// A loaded, validated scene.
 #[derive(Debug, Clone)]
@@ -13,38 +76,117 @@ pub struct Scene {
     pub world: World,
     /// Where it came from: the file path as given, or `<built-in demo>`.
     pub origin: String,
-}
-
-/// Why a scene could not be loaded. `Display` gives the whole message, e.g.
-/// `scenes/x.toml:12:8: body[2].mass: must be finite and > 0 (got -1)`, with a `hint:` line where useful.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{message}")]
-pub struct SceneError {
-    pub message: String,
+    /// Things the loader noticed but accepted (an empty scene, a quaternion normalised, ...),
+    /// each formatted like an error message: `<file>:<line>:<col>: <field path>: <text>`.
+    pub warnings: Vec<String>,
 }
 
 /// Loads a scene file (`.toml` or `.json`, by extension).
+///
+/// The size is checked before reading ([`MAX_TOML_BYTES`], [`MAX_JSON_BYTES`]); the text must be
+/// UTF-8 (a leading byte-order mark is stripped).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    Err(SceneError { message: format!("{}: scene loading is not implemented yet", path.display()) })
+    let origin = path.display().to_string();
+    let Some(format) = Format::from_path(path) else {
+        let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+        return Err(SceneError::file(&origin, "cannot tell the format from the file name")
+            .got(if ext.is_empty() { "no extension".to_string() } else { format!(".{ext}") })
+            .hint("scene files end in .toml or .json"));
+    };
+    let cannot_read = |e: std::io::Error| SceneError::file(&origin, format!("cannot read: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot_read)?;
+    if meta.is_dir() {
+        return Err(SceneError::file(&origin, "cannot read: is a directory"));
+    }
+    let cap = format.max_bytes();
+    if meta.len() > cap {
+        return Err(too_large(&origin, format, meta.len()));
+    }
+    let mut bytes = Vec::new();
+    // `take` guards against a file that grows between the metadata and the read
+    std::fs::File::open(path).and_then(|f| f.take(cap + 1).read_to_end(&mut bytes)).map_err(cannot_read)?;
+    if bytes.len() as u64 > cap {
+        return Err(too_large(&origin, format, bytes.len() as u64));
+    }
+    let text = decode_utf8(&origin, bytes)?;
+    from_str(&text, &origin, format)
 }
 
-/// The built-in demo scene (`scenes/demo.toml`).
+fn too_large(origin: &str, format: Format, len: u64) -> SceneError {
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    let (name, why) = match format {
+        Format::Toml => {
+            ("TOML", "parsing TOML takes 30–50× the file's size in memory; use JSON or `[[grid]]` for big scenes")
+        }
+        Format::Json => ("JSON", "a scene this large would not fit in memory once loaded"),
+    };
+    SceneError::file(
+        origin,
+        format!("file too large: the limit for {name} scenes is {:.0} MiB", mib(format.max_bytes())),
+    )
+    .got(format!("{len} bytes = {:.1} MiB", mib(len)))
+    .hint(why)
+}
+
+/// The file's text; invalid UTF-8 is reported with the line and column of the first bad byte.
+fn decode_utf8(origin: &str, bytes: Vec<u8>) -> Result<String, SceneError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let prefix = std::str::from_utf8(&bytes[..valid]).unwrap_or("");
+        let src = error::Source { origin, text: prefix, format: Format::Json };
+        let mut err = SceneError::file(origin, "the file is not valid UTF-8 text")
+            .got(format!("byte 0x{:02x} at offset {valid}", bytes.get(valid).copied().unwrap_or(0)));
+        err.position = Some(src.line_col(valid));
+        err.hint("save the scene as UTF-8")
+    })
+}
+
+/// Parses and validates a scene from text. `origin` names it in messages (a path, or `<stdin>`).
+/// A leading UTF-8 byte-order mark is stripped.
+pub fn from_str(text: &str, origin: &str, format: Format) -> Result<Scene, SceneError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let src = error::Source { origin, text, format };
+    let doc = match format {
+        Format::Toml => parse_toml(&src)?,
+        Format::Json => parse_json(&src)?,
+    };
+    build::build(&src, doc)
+}
+
+fn parse_toml(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
+    let de = toml::Deserializer::parse(src.text).map_err(|e| src.from_toml(&e, String::new()))?;
+    let _spans = schema::SpanGuard::enable();
+    let doc: schema::Table<schema::SceneDoc> =
+        serde_path_to_error::deserialize(de).map_err(|e| src.from_toml(e.inner(), error::path_text(e.path())))?;
+    Ok(doc.0)
+}
+
+fn parse_json(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
+    if src.text.trim().is_empty() {
+        return Ok(schema::SceneDoc::default());
+    }
+    let mut de = serde_json::Deserializer::from_str(src.text);
+    let doc: schema::Table<schema::SceneDoc> =
+        serde_path_to_error::deserialize(&mut de).map_err(|e| src.from_json(e.inner(), error::path_text(e.path())))?;
+    de.end().map_err(|e| src.from_json(&e, String::new()))?;
+    Ok(doc.0)
+}
+
+/// The built-in demo scene (`scenes/demo.toml`): in zero gravity, a box with principal moments
+/// 1, 2, 3 kg·m² spun near its intermediate axis, which flips every few seconds (the
+/// Dzhanibekov effect), beside the same box spun about its stable major axis.
 pub fn demo() -> Scene {
-    use crate::math::DVec3;
-    use crate::{MassProperties, RigidBody, WorldConfig};
-    let mp = MassProperties::from_principal(1.0, DVec3::new(1.0, 2.0, 3.0)).expect("valid");
-    let mut flipper = RigidBody::new("flipper", mp);
-    flipper.state.omega_body = DVec3::new(0.01, 5.0, 0.01);
-    let mut stable = RigidBody::new("stable", mp);
-    stable.state.position = DVec3::new(3.0, 0.0, 0.0);
-    stable.state.omega_body = DVec3::new(0.01, 0.01, 5.0);
-    let config = WorldConfig { gravity: DVec3::ZERO, duration: 30.0, sample_every: 10, ..Default::default() };
-    Scene { world: World::new(config, vec![flipper, stable]), origin: "<built-in demo>".into() }
+    // the embedded text is fixed at compile time and loaded by the tests
+    from_str(DEMO_TOML, "<built-in demo>", Format::Toml).expect("the embedded demo scene is valid")
 }
 
 impl Scene {
     /// A human-readable account of what was understood (for `tumble check`).
     pub fn describe(&self) -> String {
-        format!("{}: {} bodies", self.origin, self.world.bodies.len())
+        describe::describe(self)
     }
 }
+
+#[cfg(test)]
+mod tests;

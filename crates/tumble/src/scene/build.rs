@@ -1,0 +1,201 @@
+//! The parsed document → a validated [`Scene`]: the version, `[world]`, unique names, the bodies
+//! and the grids.
+
+use super::body::BodyReader;
+use super::error::{nearest, num, nums, SceneError, Source};
+use super::grid;
+use super::schema::{Loc, SceneDoc, Table, WorldDoc};
+use super::{Format, Scene};
+use crate::integrate::{Integrator, Tolerances};
+use crate::math::DVec3;
+use crate::world::{World, WorldConfig};
+use std::collections::HashMap;
+use std::ops::Range;
+
+/// The only format version this build reads.
+pub const VERSION: i64 = 1;
+
+/// A time step above this (s) is accepted with a warning: few rigid-body motions are resolved by it.
+pub const LARGE_DT: f64 = 0.1;
+
+pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
+    let mut warnings = Vec::new();
+    let origin = src.origin.to_string();
+    if doc.is_empty() {
+        warnings.push(src.warning(None, "", "the file is empty: a default world with no bodies"));
+        return Ok(Scene { world: World::new(WorldConfig::default(), Vec::new()), origin, warnings });
+    }
+    check_version(src, &doc)?;
+    let config = world_config(src, doc.world.as_ref(), &mut warnings)?;
+    let total = grid::total_bodies(src, &doc)?;
+    let mut bodies = Vec::with_capacity(total);
+
+    // name → (path, span) of the body that took it; `order` keeps the file's order for messages
+    let mut names: HashMap<String, (String, Option<Range<usize>>)> = HashMap::with_capacity(doc.body.len());
+    let mut order: Vec<String> = Vec::with_capacity(doc.body.len());
+    for (i, entry) in doc.body.iter().enumerate() {
+        let path = format!("body[{i}]");
+        let name = body_name(src, &path, entry)?;
+        if let Some((first_path, first_span)) = names.get(&name.value) {
+            return Err(duplicate(src, &path, name, first_path, first_span.as_ref()));
+        }
+        names.insert(name.value.clone(), (format!("{path}.name"), name.span.clone()));
+        order.push(name.value.clone());
+        let mut reader = BodyReader { src, path: &path, span: entry.span.as_ref(), warnings: &mut warnings };
+        bodies.push(reader.read(&entry.value, name.value.clone())?);
+    }
+
+    let mut prefixes: HashMap<String, (String, Option<Range<usize>>)> = HashMap::new();
+    for (g, entry) in doc.grid.iter().enumerate() {
+        let prefix = grid::expand(src, g, entry, &mut warnings, &mut bodies)?;
+        let name_loc = entry.value.body.value.name.as_ref();
+        let span = name_loc.and_then(|l| l.span.clone());
+        let path = format!("grid[{g}].body.name");
+        if let Some((first_path, first_span)) = prefixes.get(&prefix) {
+            let here = Loc { value: prefix.clone(), span: span.clone() };
+            return Err(duplicate(src, &format!("grid[{g}].body"), &here, first_path, first_span.as_ref())
+                .hint("two grids with the same template name would both name a copy `name_0_0_0`"));
+        }
+        // an explicit body named like one of the copies
+        for name in &order {
+            if let Some([i, j, k]) = grid::copy_index(name, &prefix, entry.value.count.value) {
+                let Some((first_path, first_span)) = names.get(name) else { continue };
+                let here = Loc { value: name.clone(), span: span.clone() };
+                return Err(duplicate(src, &format!("grid[{g}].body"), &here, first_path, first_span.as_ref())
+                    .hint(format!("copy ({i}, {j}, {k}) of grid[{g}] is named `{name}`")));
+            }
+        }
+        prefixes.insert(prefix, (path, span));
+    }
+
+    if bodies.is_empty() {
+        warnings.push(src.warning(None, "", "the scene has no bodies"));
+    }
+    Ok(Scene { world: World::new(config, bodies), origin, warnings })
+}
+
+fn check_version(src: &Source, doc: &SceneDoc) -> Result<(), SceneError> {
+    match &doc.version {
+        None => {
+            let at = (src.format == Format::Toml).then_some(0..0);
+            Err(src
+                .error(at.as_ref(), "version", "missing: the format version is required")
+                .hint(format!("start the file with `version = {VERSION}`")))
+        }
+        Some(v) if v.value != VERSION => Err(src
+            .error(v.span.as_ref(), "version", format!("unsupported version: this tumble reads version {VERSION}"))
+            .got(v.value.to_string())),
+        Some(_) => Ok(()),
+    }
+}
+
+fn body_name<'d>(
+    src: &Source,
+    path: &str,
+    entry: &'d Loc<Table<super::schema::BodyDoc>>,
+) -> Result<&'d Loc<String>, SceneError> {
+    match &entry.value.name {
+        Some(n) if !n.value.trim().is_empty() => Ok(n),
+        Some(n) => {
+            Err(src.error(n.span.as_ref(), format!("{path}.name"), "must not be empty").got(format!("{:?}", n.value)))
+        }
+        None => Err(src
+            .error(entry.span.as_ref(), format!("{path}.name"), "missing: every body needs a unique name")
+            .hint(format!("e.g. `name = \"body{}\"`", path.trim_start_matches("body[").trim_end_matches(']')))),
+    }
+}
+
+fn duplicate(
+    src: &Source,
+    path: &str,
+    name: &Loc<String>,
+    first_path: &str,
+    first_span: Option<&Range<usize>>,
+) -> SceneError {
+    let first = match first_span {
+        Some(s) => {
+            let p = src.line_col(s.start);
+            format!("{first_path} at {}:{}:{}", src.origin, p.line, p.column)
+        }
+        None => first_path.to_string(),
+    };
+    src.error(name.span.as_ref(), format!("{path}.name"), format!("duplicate name: already used by {first}"))
+        .got(format!("\"{}\"", name.value))
+}
+
+/// `[world]` → a validated [`WorldConfig`]; missing keys take `WorldConfig::default()`.
+fn world_config(
+    src: &Source,
+    doc: Option<&Loc<Table<WorldDoc>>>,
+    warnings: &mut Vec<String>,
+) -> Result<WorldConfig, SceneError> {
+    let mut config = WorldConfig::default();
+    let Some(table) = doc else { return Ok(config) };
+    let w = &table.value;
+    let finite = |key: &str, l: &Loc<f64>| -> Result<f64, SceneError> {
+        if l.value.is_finite() {
+            Ok(l.value)
+        } else {
+            Err(src.error(l.span.as_ref(), format!("world.{key}"), "must be finite").got(num(l.value)))
+        }
+    };
+    if let Some(g) = &w.gravity {
+        if g.value.iter().any(|x| !x.is_finite()) {
+            return Err(src.error(g.span.as_ref(), "world.gravity", "must be finite").got(nums(&g.value)));
+        }
+        config.gravity = DVec3::from_array(g.value);
+    }
+    if let Some(l) = &w.dt {
+        config.dt = finite("dt", l)?;
+    }
+    if let Some(l) = &w.duration {
+        config.duration = finite("duration", l)?;
+    }
+    let mut tolerances = Tolerances::default();
+    if let Some(l) = &w.rtol {
+        tolerances.rtol = finite("rtol", l)?;
+    }
+    if let Some(l) = &w.atol {
+        tolerances.atol = finite("atol", l)?;
+    }
+    config.tolerances = tolerances;
+    if let Some(l) = &w.sample_every {
+        config.sample_every = l.value;
+    }
+    if let Some(l) = &w.integrator {
+        config.integrator = l.value.parse::<Integrator>().map_err(|_| {
+            let names: Vec<&str> = Integrator::ALL.iter().map(|i| i.name()).collect();
+            let e = src
+                .error(
+                    l.span.as_ref(),
+                    "world.integrator",
+                    format!("unknown integrator (expected one of: {})", Integrator::names()),
+                )
+                .got(format!("\"{}\"", l.value));
+            match nearest(&l.value, &names) {
+                Some(best) => e.hint(format!("did you mean `{best}`?")),
+                None => e,
+            }
+        })?;
+    }
+    config.validate().map_err(|e| {
+        let span = |l: Option<Range<usize>>| l.or_else(|| table.span.clone());
+        let at = match e.field {
+            "gravity" => span(w.gravity.as_ref().and_then(|l| l.span.clone())),
+            "dt" => span(w.dt.as_ref().and_then(|l| l.span.clone())),
+            // the step cap concerns duration/dt: point at whichever was given
+            "duration" => span(w.duration.as_ref().or(w.dt.as_ref()).and_then(|l| l.span.clone())),
+            "rtol" => span(w.rtol.as_ref().and_then(|l| l.span.clone())),
+            "atol" => span(w.atol.as_ref().and_then(|l| l.span.clone())),
+            "sample_every" => span(w.sample_every.as_ref().and_then(|l| l.span.clone())),
+            _ => table.span.clone(),
+        };
+        src.error(at.as_ref(), format!("world.{}", e.field), e.problem).got(e.value)
+    })?;
+    if config.dt > LARGE_DT {
+        let span = w.dt.as_ref().and_then(|l| l.span.as_ref());
+        let text = format!("dt = {} s is larger than {LARGE_DT} s: fast rotations will not be resolved", config.dt);
+        warnings.push(src.warning(span, "world.dt", &text));
+    }
+    Ok(config)
+}

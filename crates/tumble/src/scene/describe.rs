@@ -1,0 +1,155 @@
+//! `Scene::describe`: what the loader understood, for `tumble check`.
+//!
+//! Everything is printed in the frames of the file: orientation and `_body` quantities in the
+//! user's body axes (converted back from the principal axes), the rest in the world frame.
+
+use super::Scene;
+use crate::body::{Frame, RigidBody, Shape};
+use crate::integrate::Integrator;
+use crate::math::{DQuat, DVec3};
+use std::fmt::Write as _;
+
+/// Bodies listed one by one; the rest are counted.
+pub const MAX_LISTED_BODIES: usize = 50;
+
+/// A number with 7 significant digits at most, trailing zeros trimmed.
+fn g(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let a = x.abs();
+    if !(1e-4..1e7).contains(&a) {
+        return format!("{x:.6e}");
+    }
+    let decimals = (6 - a.log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s
+    }
+}
+
+fn v3(v: DVec3) -> String {
+    format!("[{}, {}, {}]", g(v.x), g(v.y), g(v.z))
+}
+
+/// `[w, x, y, z]`, as in files.
+fn wxyz(q: DQuat) -> String {
+    format!("[{}, {}, {}, {}]", g(q.w), g(q.x), g(q.y), g(q.z))
+}
+
+pub(crate) fn describe(scene: &Scene) -> String {
+    let w = &scene.world;
+    let c = &w.config;
+    let mut out = String::new();
+    let _ = writeln!(out, "scene {}", scene.origin);
+    let _ = writeln!(out, "world");
+    let _ = writeln!(out, "  gravity      {} m/s² (world frame)", v3(c.gravity));
+    let _ = writeln!(out, "  dt           {} s", g(c.dt));
+    let _ = writeln!(out, "  duration     {} s ({} steps)", g(c.duration), c.step_count());
+    let _ = write!(out, "  integrator   {} (order {})", c.integrator, c.integrator.order());
+    if c.integrator == Integrator::Dopri5 {
+        let _ = write!(out, ", rtol {}, atol {}", g(c.tolerances.rtol), g(c.tolerances.atol));
+    }
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "  sample_every {} (every {} s of simulated time)",
+        c.sample_every,
+        g(c.dt * c.sample_every as f64)
+    );
+    let fixed = w.bodies.iter().filter(|b| b.fixed).count();
+    let _ = writeln!(out, "{} bodies ({} moving, {} fixed)", w.bodies.len(), w.bodies.len() - fixed, fixed);
+    for body in w.bodies.iter().take(MAX_LISTED_BODIES) {
+        describe_body(&mut out, body);
+    }
+    if w.bodies.len() > MAX_LISTED_BODIES {
+        let _ = writeln!(out, "... and {} more bodies", w.bodies.len() - MAX_LISTED_BODIES);
+    }
+    for warning in &scene.warnings {
+        let _ = writeln!(out, "warning: {warning}");
+    }
+    out
+}
+
+fn describe_body(out: &mut String, b: &RigidBody) {
+    let user_from_body = b.mass.user_from_body;
+    let _ = writeln!(out, "body `{}`{}", b.name, if b.fixed { " (fixed)" } else { "" });
+    if b.fixed {
+        let _ = writeln!(out, "  position     {} m", v3(b.state.position));
+        let _ = writeln!(out, "  orientation  {} [w, x, y, z]", wxyz(b.orientation_user()));
+    } else {
+        let _ = writeln!(out, "  mass         {} kg", g(b.mass.mass));
+        let _ = writeln!(out, "  inertia      {} kg·m² (principal moments)", v3(b.mass.inertia_body));
+        if user_from_body.angle_between(DQuat::IDENTITY) > 1e-12 {
+            // columns of user_from_body: the principal axes in the user's body axes
+            let _ = writeln!(
+                out,
+                "  principal axes in the body axes: {} {} {}",
+                v3(user_from_body * DVec3::X),
+                v3(user_from_body * DVec3::Y),
+                v3(user_from_body * DVec3::Z)
+            );
+        }
+        let s = &b.state;
+        let _ = writeln!(out, "  position     {} m", v3(s.position));
+        let _ = writeln!(out, "  orientation  {} [w, x, y, z]", wxyz(b.orientation_user()));
+        let _ = writeln!(out, "  velocity     {} m/s", v3(s.velocity));
+        let _ = writeln!(
+            out,
+            "  angular velocity {} rad/s (world frame) = {} rad/s (body axes)",
+            v3(s.omega_world()),
+            v3(user_from_body * s.omega_body)
+        );
+    }
+    if let Some(shape) = b.shape {
+        let size = match shape {
+            Shape::Sphere { radius } => format!("radius {} m", g(radius)),
+            Shape::Box { half_extents } => format!("half extents {} m", v3(half_extents)),
+            Shape::Capsule { radius, half_height } | Shape::Cylinder { radius, half_height } => {
+                format!("radius {} m, half height {} m", g(radius), g(half_height))
+            }
+            Shape::Plane => "normal +z (body axes)".to_string(),
+        };
+        let _ = writeln!(out, "  shape        {} ({size})", shape.type_name());
+    }
+    if let Some(e) = b.material.restitution {
+        let _ = writeln!(out, "  restitution  {}", g(e));
+    }
+    if let Some(mu) = b.material.friction {
+        let _ = writeln!(out, "  friction     {}", g(mu));
+    }
+    let l = &b.loads;
+    let mut loads = Vec::new();
+    if l.force_world != DVec3::ZERO {
+        loads.push(format!("force {} N (world)", v3(l.force_world)));
+    }
+    if l.force_body != DVec3::ZERO {
+        loads.push(format!("force {} N (body axes)", v3(user_from_body * l.force_body)));
+    }
+    if l.torque_world != DVec3::ZERO {
+        loads.push(format!("torque {} N·m (world)", v3(l.torque_world)));
+    }
+    if l.torque_body != DVec3::ZERO {
+        loads.push(format!("torque {} N·m (body axes)", v3(user_from_body * l.torque_body)));
+    }
+    if l.linear_damping != 0.0 {
+        loads.push(format!("linear damping {} 1/s", g(l.linear_damping)));
+    }
+    if l.angular_damping != 0.0 {
+        loads.push(format!("angular damping {} 1/s", g(l.angular_damping)));
+    }
+    for pf in &l.point_forces {
+        let (force, frame) = match pf.frame {
+            Frame::World => (pf.force, "world"),
+            Frame::Body => (user_from_body * pf.force, "body axes"),
+        };
+        loads.push(format!("force {} N ({frame}) at {} m (body axes)", v3(force), v3(user_from_body * pf.point_body)));
+    }
+    if !b.fixed {
+        let text = if loads.is_empty() { "none besides gravity".to_string() } else { loads.join("; ") };
+        let _ = writeln!(out, "  loads        {text}");
+    }
+}

@@ -1,0 +1,211 @@
+//! The scene file as written: serde structures that mirror `docs/scene-format.md` key for key.
+//!
+//! Every struct denies unknown keys. Every value is wrapped in [`Loc`], which keeps the byte span
+//! of the value in a TOML file, so that errors found after parsing (a negative mass, a duplicate
+//! name) still point at the line and column of the offending value. JSON gives no spans; there the
+//! field path stands in for the position.
+//!
+//! Nothing here checks ranges or finiteness: that is `build`'s work, which knows what each value means.
+
+use serde::de::Deserializer;
+use serde::Deserialize;
+use std::cell::Cell;
+use std::ops::Range;
+
+thread_local! {
+    /// Whether the deserializer running on this thread is `toml`'s, which understands the
+    /// `Spanned` protocol. `serde_json` does not: asking it for a span fails on plain numbers.
+    static SPANS: Cell<bool> = const { Cell::new(false) };
+}
+
+/// While alive, [`Loc`] values deserialized on this thread ask the deserializer for their span.
+pub(crate) struct SpanGuard {
+    previous: bool,
+}
+
+impl SpanGuard {
+    pub(crate) fn enable() -> Self {
+        Self { previous: SPANS.with(|s| s.replace(true)) }
+    }
+}
+
+impl Drop for SpanGuard {
+    fn drop(&mut self) {
+        SPANS.with(|s| s.set(self.previous));
+    }
+}
+
+/// A value and, for TOML files, the byte range it occupies in the text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loc<T> {
+    /// The value as parsed.
+    pub value: T,
+    /// Byte range in the source text (TOML only).
+    pub span: Option<Range<usize>>,
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Loc<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        if SPANS.with(|s| s.get()) {
+            let spanned = toml::Spanned::<T>::deserialize(deserializer)?;
+            let span = spanned.span();
+            Ok(Loc { value: spanned.into_inner(), span: Some(span) })
+        } else {
+            Ok(Loc { value: T::deserialize(deserializer)?, span: None })
+        }
+    }
+}
+
+/// A table (`{...}` in JSON): serde would also read a struct from an array, by position, which
+/// would accept `body = [["a", 1.0]]`; this wrapper accepts only tables.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table<T>(pub T);
+
+impl<T> std::ops::Deref for Table<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Table<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TableVisitor<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for TableVisitor<T> {
+            type Value = Table<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table (an object in JSON)")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Table<T>, A::Error> {
+                T::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(Table)
+            }
+        }
+        deserializer.deserialize_map(TableVisitor(std::marker::PhantomData))
+    }
+}
+
+/// A three-vector as written in files, `[x, y, z]`.
+pub type Vec3Doc = Loc<[f64; 3]>;
+
+/// The whole file.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDoc {
+    /// Format version; required, must be 1.
+    pub version: Option<Loc<i64>>,
+    /// `[world]`: settings (defaults from `WorldConfig::default()`).
+    pub world: Option<Loc<Table<WorldDoc>>>,
+    /// `[[body]]`: the bodies, in order.
+    #[serde(default)]
+    pub body: Vec<Loc<Table<BodyDoc>>>,
+    /// `[[grid]]`: generated blocks of identical bodies, appended after the `[[body]]` entries.
+    #[serde(default)]
+    pub grid: Vec<Loc<Table<GridDoc>>>,
+}
+
+impl SceneDoc {
+    /// Whether the document has no key at all (an empty file).
+    pub fn is_empty(&self) -> bool {
+        self.version.is_none() && self.world.is_none() && self.body.is_empty() && self.grid.is_empty()
+    }
+}
+
+/// `[world]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldDoc {
+    /// m/s², world frame.
+    pub gravity: Option<Vec3Doc>,
+    /// s.
+    pub dt: Option<Loc<f64>>,
+    /// s.
+    pub duration: Option<Loc<f64>>,
+    pub integrator: Option<Loc<String>>,
+    pub rtol: Option<Loc<f64>>,
+    pub atol: Option<Loc<f64>>,
+    pub sample_every: Option<Loc<u64>>,
+}
+
+/// One `[[body]]` (or the template `[grid.body]`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDoc {
+    pub name: Option<Loc<String>>,
+    /// kg.
+    pub mass: Option<Loc<f64>>,
+    /// kg/m³, with a shape.
+    pub density: Option<Loc<f64>>,
+    /// Principal moments about the centre of mass, user's body axes (kg·m²).
+    pub inertia: Option<Vec3Doc>,
+    /// Full symmetric tensor about the centre of mass, user's body axes (kg·m²), rows.
+    pub inertia_tensor: Option<Loc<[[f64; 3]; 3]>>,
+    pub shape: Option<Loc<Table<ShapeDoc>>>,
+    /// Centre of mass, world frame (m).
+    pub position: Option<Vec3Doc>,
+    /// `world_from_user`, `[w, x, y, z]`.
+    pub orientation: Option<Loc<[f64; 4]>>,
+    /// World frame (m/s).
+    pub velocity: Option<Vec3Doc>,
+    /// World frame (rad/s).
+    pub angular_velocity: Option<Vec3Doc>,
+    /// User's body axes (rad/s).
+    pub angular_velocity_body: Option<Vec3Doc>,
+    pub fixed: Option<Loc<bool>>,
+    pub restitution: Option<Loc<f64>>,
+    pub friction: Option<Loc<f64>>,
+    /// World frame, at the centre of mass (N).
+    pub force: Option<Vec3Doc>,
+    /// User's body axes, at the centre of mass (N).
+    pub force_body: Option<Vec3Doc>,
+    /// World frame (N·m).
+    pub torque: Option<Vec3Doc>,
+    /// User's body axes (N·m).
+    pub torque_body: Option<Vec3Doc>,
+    /// 1/s.
+    pub linear_damping: Option<Loc<f64>>,
+    /// 1/s.
+    pub angular_damping: Option<Loc<f64>>,
+    /// `[[body.point_force]]`.
+    #[serde(default)]
+    pub point_force: Vec<Loc<Table<PointForceDoc>>>,
+}
+
+/// `shape = { type = "...", ... }`; which sizes a type needs is checked when building.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeDoc {
+    #[serde(rename = "type")]
+    pub kind: Loc<String>,
+    /// m (sphere, capsule, cylinder).
+    pub radius: Option<Loc<f64>>,
+    /// m (box).
+    pub half_extents: Option<Vec3Doc>,
+    /// m (capsule, cylinder).
+    pub half_height: Option<Loc<f64>>,
+}
+
+/// `[[body.point_force]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointForceDoc {
+    /// Point of application relative to the centre of mass, user's body axes (m).
+    pub point: Option<Vec3Doc>,
+    /// World frame (N).
+    pub force: Option<Vec3Doc>,
+    /// User's body axes (N).
+    pub force_body: Option<Vec3Doc>,
+}
+
+/// `[[grid]]`: `count[0] × count[1] × count[2]` copies of `body`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridDoc {
+    /// Copies along world x, y, z.
+    pub count: Loc<[u64; 3]>,
+    /// Distance between neighbours along world x, y, z (m).
+    pub spacing: Option<Vec3Doc>,
+    /// Position of copy `(0, 0, 0)`, world frame (m).
+    pub origin: Option<Vec3Doc>,
+    /// The template; its `name` becomes `name_i_j_k`.
+    pub body: Loc<Table<BodyDoc>>,
+}
