@@ -11,6 +11,11 @@ pub fn check(args: &CheckArgs) -> Result<Status, Failure> {
     if !text.ends_with('\n') {
         text.push('\n');
     }
+    // the description lists the warnings; any it leaves out are added
+    let missing: Vec<&String> = scene.warnings.iter().filter(|w| !text.contains(w.as_str())).collect();
+    for warning in missing {
+        text.push_str(&format!("warning: {warning}\n"));
+    }
     Stdout::default().write(&text).map_err(|e| Failure::output(format!("cannot write to standard output: {e}")))?;
     Ok(Status::Success)
 }

@@ -66,7 +66,7 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     row("integrator", format!("{}, dt = {} s", s.integrator, s.dt));
     row("steps", format!("{}{stopped}", s.steps));
     row("simulated time", format!("{} s", s.simulated_time));
-    row("wall time", format!("{:.3} s", s.wall_time_s));
+    row("wall time", seconds(s.wall_time_s));
     let body_steps = (s.free_bodies as f64) * (s.steps as f64);
     let rate = if s.wall_time_s > 0.0 { format!("{:.3e}", body_steps / s.wall_time_s) } else { "-".into() };
     row("body-steps/s", rate);
@@ -90,6 +90,17 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
         row("summary", path.display().to_string());
     }
     t
+}
+
+/// A duration for people: `2.35 s`, `12.3 ms`, `85 µs`.
+fn seconds(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s:.2} s")
+    } else if s >= 1e-3 {
+        format!("{:.1} ms", s * 1e3)
+    } else {
+        format!("{:.0} µs", s * 1e6)
+    }
 }
 
 /// `3.1e-12 (max relative)`, or the absolute error with its unit when the initial value was zero.

@@ -205,7 +205,13 @@ pub fn simulate<W: Write>(
 /// `tumble run`.
 pub fn run(args: &RunArgs) -> Result<Status, Failure> {
     let Plan { scene, out, default_out, format, summary, quiet } = Plan::new(args)?;
-    let Scene { mut world, origin, .. } = scene;
+    let Scene { mut world, origin, warnings } = scene;
+    if !quiet {
+        let mut stderr = std::io::stderr().lock();
+        for warning in &warnings {
+            let _ = writeln!(stderr, "warning: {warning}");
+        }
+    }
     let stop = crate::signal::install().map_err(|e| Failure::output(format!("cannot handle signals: {e}")))?;
 
     // open every output before simulating: an unwritable one is reported now (exit 4)

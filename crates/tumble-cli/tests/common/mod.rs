@@ -69,3 +69,10 @@ pub fn parse_csv(text: &str) -> Vec<Row> {
 pub fn rows_of<'a>(rows: &'a [Row], body: &str) -> Vec<&'a Row> {
     rows.iter().filter(|r| r.body == body).collect()
 }
+
+/// A number read from JSON with serde_json, whose default parser is not correctly rounded (it may
+/// be one or two ulps off): equal to `expected` within 4 ulps.
+pub fn json_close(value: &serde_json::Value, expected: f64) -> bool {
+    let got = value.as_f64().unwrap_or(f64::NAN);
+    (got - expected).abs() <= 4.0 * f64::EPSILON * expected.abs()
+}
