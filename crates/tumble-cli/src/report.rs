@@ -158,8 +158,8 @@ impl Ticker {
         self.next = step + self.every;
         let now = Instant::now();
         if self.progress_allowed && now - self.start >= PROGRESS_DELAY {
-            let total = self.total_steps;
-            let bar = self.bar.get_or_insert_with(|| new_bar(total));
+            let (total, elapsed) = (self.total_steps, now - self.start);
+            let bar = self.bar.get_or_insert_with(|| new_bar(total).with_elapsed(elapsed));
             bar.set_position(step);
         }
         let flush = now - self.last_flush >= FLUSH_INTERVAL;
