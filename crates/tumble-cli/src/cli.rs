@@ -56,6 +56,10 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE")]
     pub summary: Option<PathBuf>,
 
+    /// Stop after this many seconds of wall time (after a whole step; outputs are valid, exit 0).
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub max_wall_time: Option<f64>,
+
     /// Print only errors (no table, no progress bar).
     #[arg(long, short)]
     pub quiet: bool,

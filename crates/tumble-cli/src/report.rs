@@ -60,6 +60,7 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
         StopReason::Completed => "",
         StopReason::Diverged => " (diverged)",
         StopReason::Interrupted => " (interrupted)",
+        StopReason::WallTimeLimit => " (stopped at the wall-time limit)",
     };
     row("scene", s.scene.clone());
     row("bodies", format!("{} ({} moving)", s.bodies, s.free_bodies));
@@ -117,7 +118,17 @@ pub const FLUSH_INTERVAL: Duration = Duration::from_secs(1);
 /// A run shows a progress bar once it has lasted this long.
 pub const PROGRESS_DELAY: Duration = Duration::from_secs(1);
 
-/// Periodic work of the run loop that needs the clock: the progress bar and the periodic flush.
+/// What a tick found due.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Tick {
+    /// Flush the trajectory (about once per [`FLUSH_INTERVAL`]).
+    pub flush: bool,
+    /// The wall-time limit is reached: stop after this step.
+    pub out_of_time: bool,
+}
+
+/// Periodic work of the run loop that needs the clock: the progress bar, the periodic flush and the
+/// wall-time limit.
 /// The loop calls [`Ticker::due`] every step (a comparison) and [`Ticker::tick`] every
 /// [`Ticker::every`] steps, so the clock is read about once per millisecond of simulation work.
 #[derive(Debug)]
@@ -131,6 +142,8 @@ pub struct Ticker {
     /// Whether a bar may be shown (stderr is a terminal and the run is not quiet).
     progress_allowed: bool,
     bar: Option<ProgressBar>,
+    /// Stop once the loop has run this long.
+    wall_time_limit: Option<Duration>,
 }
 
 impl Ticker {
@@ -139,7 +152,22 @@ impl Ticker {
         // about 1000 body-steps between ticks
         let every = (1024 / free_bodies.max(1) as u64).max(1);
         let now = Instant::now();
-        Self { every, next: every, total_steps, start: now, last_flush: now, progress_allowed, bar: None }
+        Self {
+            every,
+            next: every,
+            total_steps,
+            start: now,
+            last_flush: now,
+            progress_allowed,
+            bar: None,
+            wall_time_limit: None,
+        }
+    }
+
+    /// Stops the run once it has lasted `limit` (checked at each tick).
+    pub fn with_wall_time_limit(mut self, limit: Option<Duration>) -> Self {
+        self.wall_time_limit = limit;
+        self
     }
 
     /// Steps between two ticks.
@@ -153,8 +181,9 @@ impl Ticker {
         step >= self.next
     }
 
-    /// Reads the clock: whether the periodic flush is due; shows or advances the progress bar.
-    pub fn tick(&mut self, step: u64) -> bool {
+    /// Reads the clock: whether the periodic flush is due and the time is up; shows or advances the
+    /// progress bar.
+    pub fn tick(&mut self, step: u64) -> Tick {
         self.next = step + self.every;
         let now = Instant::now();
         if self.progress_allowed && now - self.start >= PROGRESS_DELAY {
@@ -166,7 +195,8 @@ impl Ticker {
         if flush {
             self.last_flush = now;
         }
-        flush
+        let out_of_time = self.wall_time_limit.is_some_and(|limit| now - self.start >= limit);
+        Tick { flush, out_of_time }
     }
 
     /// Removes the progress bar, if shown.
@@ -212,5 +242,14 @@ mod tests {
         assert_eq!(Ticker::new(10, 100_000, false).every(), 1);
         let t = Ticker::new(10, 0, false);
         assert!(!t.due(1023) && t.due(1024));
+    }
+
+    #[test]
+    fn the_wall_time_limit_is_seen_at_a_tick() {
+        let mut t = Ticker::new(10, 1, false).with_wall_time_limit(Some(Duration::from_millis(50)));
+        assert!(!t.tick(1024).out_of_time);
+        std::thread::sleep(Duration::from_millis(60));
+        assert!(t.tick(2048).out_of_time);
+        assert!(!Ticker::new(10, 1, false).tick(1024).out_of_time, "no limit");
     }
 }

@@ -8,7 +8,7 @@ use crate::report::{self, Stdout, Ticker};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use tumble::scene::{self, Scene};
 use tumble::trajectory::{Format, Monitor, StopReason, Summary, TrajectoryError, TrajectoryWriter};
 use tumble::world::Diverged;
@@ -32,6 +32,8 @@ pub struct Plan {
     pub format: Format,
     pub summary: Option<PathBuf>,
     pub quiet: bool,
+    /// `--max-wall-time`.
+    pub wall_time_limit: Option<Duration>,
 }
 
 impl Plan {
@@ -77,7 +79,13 @@ impl Plan {
             None => scene::demo(),
         };
         apply_overrides(&mut scene, args)?;
-        let plan = Plan { scene, out, default_out, format, summary: args.summary.clone(), quiet: args.quiet };
+        let wall_time_limit = match args.max_wall_time {
+            Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s.min(1e9))),
+            Some(s) => return Err(Failure::bad_input(format!("--max-wall-time: must be finite and > 0 (got {s})"))),
+            None => None,
+        };
+        let plan =
+            Plan { scene, out, default_out, format, summary: args.summary.clone(), quiet: args.quiet, wall_time_limit };
         let bytes = plan.estimated_bytes();
         if bytes > MAX_OUTPUT_BYTES && !args.force {
             return Err(Failure::bad_input(format!(
@@ -135,6 +143,7 @@ pub enum Stop {
     Completed,
     Diverged(Diverged),
     Interrupted,
+    WallTimeLimit,
 }
 
 /// What the loop leaves behind.
@@ -151,7 +160,8 @@ pub struct Outcome {
 ///
 /// - A step that diverges is undone (the states before it are kept in a buffer): the last finite
 ///   state is written, and the loop stops with [`Stop::Diverged`].
-/// - When `stop` turns true (SIGINT/SIGTERM) the loop ends after the current step, writing it.
+/// - When `stop` turns true (SIGINT/SIGTERM), or the ticker's wall-time limit is reached, the loop
+///   ends after the current step, writing it.
 /// - The trajectory is flushed about every second, and at the end.
 ///
 /// Nothing is allocated per step: the state buffer is made once, the writer reuses its buffers.
@@ -190,8 +200,15 @@ pub fn simulate<W: Write>(
             end = Stop::Interrupted;
             break;
         }
-        if ticker.due(step) && ticker.tick(step) {
-            writer.flush()?;
+        if ticker.due(step) {
+            let tick = ticker.tick(step);
+            if tick.flush {
+                writer.flush()?;
+            }
+            if tick.out_of_time {
+                end = Stop::WallTimeLimit;
+                break;
+            }
         }
     }
     if last_sampled != world.steps() {
@@ -204,7 +221,7 @@ pub fn simulate<W: Write>(
 
 /// `tumble run`.
 pub fn run(args: &RunArgs) -> Result<Status, Failure> {
-    let Plan { scene, out, default_out, format, summary, quiet } = Plan::new(args)?;
+    let Plan { scene, out, default_out, format, summary, quiet, wall_time_limit } = Plan::new(args)?;
     let Scene { mut world, origin, warnings } = scene;
     if !quiet {
         let mut stderr = std::io::stderr().lock();
@@ -238,7 +255,8 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
         stdout.write(&report::start_line(&origin, &world, &out)).map_err(stdout_failure)?;
     }
     let progress_allowed = !quiet && std::io::stderr().is_terminal();
-    let mut ticker = Ticker::new(world.config.step_count(), world.free_bodies().count(), progress_allowed);
+    let mut ticker = Ticker::new(world.config.step_count(), world.free_bodies().count(), progress_allowed)
+        .with_wall_time_limit(wall_time_limit);
     let looped = TrajectoryWriter::new(file, format, &world)
         .and_then(|mut writer| simulate(&mut world, &mut writer, &stop, &mut ticker).map(|o| (o, writer)));
     ticker.finish();
@@ -258,6 +276,7 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
         Stop::Completed => StopReason::Completed,
         Stop::Diverged(_) => StopReason::Diverged,
         Stop::Interrupted => StopReason::Interrupted,
+        Stop::WallTimeLimit => StopReason::WallTimeLimit,
     };
     let run_summary = Summary::new(&world, &outcome.monitor, outcome.wall_time_s, reason, &origin);
     if let (Some(output), Some(path)) = (summary_out, &summary) {
@@ -283,6 +302,17 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
                 out.display()
             );
             Ok(Status::Interrupted)
+        }
+        Stop::WallTimeLimit => {
+            if !quiet {
+                let _ = writeln!(
+                    std::io::stderr().lock(),
+                    "stopped at the wall-time limit at step {} (t = {t} s); the trajectory up to there is in '{}'",
+                    world.steps(),
+                    out.display()
+                );
+            }
+            Ok(Status::Success)
         }
     }
 }

@@ -127,3 +127,11 @@ fn the_summary_and_the_trajectory_must_differ() {
     let stderr = bad_input(&["run", "--out", "a.jsonl", "--summary", "a.jsonl"]);
     assert!(stderr.contains("the same file as the trajectory"), "{stderr}");
 }
+
+#[test]
+fn a_wall_time_limit_must_be_positive() {
+    for limit in ["0", "-1", "nan"] {
+        let stderr = bad_input(&["run", "--max-wall-time", limit]);
+        assert!(stderr.contains("--max-wall-time: must be finite and > 0"), "{limit}: {stderr}");
+    }
+}

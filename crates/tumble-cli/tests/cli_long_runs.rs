@@ -70,3 +70,23 @@ fn a_killed_run_leaves_a_partial_file_flushed_about_every_second() {
     assert_eq!(rows[0].t, 0.0);
     assert!(!dir.path().join("t.csv").exists(), "a killed run is never renamed into place");
 }
+
+#[test]
+fn max_wall_time_stops_after_a_whole_step_with_valid_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "--duration", "100000", "--max-wall-time", "0.3", "--out", "t.csv", "--summary", "s.json"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(stderr.starts_with("stopped at the wall-time limit at step "), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    assert_eq!(summary["stopped"], "wall_time_limit");
+    let steps = summary["steps"].as_u64().unwrap();
+    assert!(steps > 0 && steps < 100_000_000, "{steps}");
+    assert!(summary["wall_time_s"].as_f64().unwrap() >= 0.3);
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("t.csv")).unwrap());
+    assert_eq!(rows.last().unwrap().t, steps as f64 * 1e-3, "the state where it stopped is written");
+}

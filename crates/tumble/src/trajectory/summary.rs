@@ -26,6 +26,8 @@ pub enum StopReason {
     Diverged,
     /// The run was interrupted (SIGINT/SIGTERM) after a whole step.
     Interrupted,
+    /// The run reached its wall-time limit (`--max-wall-time`) and stopped after a whole step.
+    WallTimeLimit,
 }
 
 /// Energy: kinetic plus gravitational potential, of the free bodies (J).
