@@ -200,3 +200,24 @@ fn every_shipped_scene_runs() {
         assert_eq!(rows.len(), samples * summary["free_bodies"].as_u64().unwrap() as usize, "{stem}");
     }
 }
+
+#[test]
+fn the_readme_examples_run() {
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let commands: Vec<&str> = readme.lines().filter_map(|l| l.strip_prefix("$ tumble ")).collect();
+    assert_eq!(commands.len(), 3);
+    let dir = tempfile::tempdir().unwrap();
+    for command in commands {
+        let args: Vec<String> = command
+            .split_whitespace()
+            .map(|a| match a.strip_prefix("scenes/") {
+                Some(name) => scenes_dir().join(name).to_string_lossy().into_owned(),
+                None => a.to_string(),
+            })
+            .collect();
+        tumble(dir.path()).args(&args).assert().success();
+    }
+    assert!(dir.path().join("out/demo.csv").is_file());
+    assert!(dir.path().join("out/top.jsonl").is_file());
+    assert_eq!(read_json(&dir.path().join("out/top.json"))["integrator"], "splitting4");
+}
