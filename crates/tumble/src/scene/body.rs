@@ -271,9 +271,10 @@ impl BodyReader<'_, '_> {
         if let Some(p) = self.bounded3("position", &doc.position, MAX_POSITION, "m")? {
             body.state.position = p;
         }
-        if let Some(world_from_user) = self.orientation(doc)? {
-            body.set_orientation_user(world_from_user);
-        }
+        // always set through the user's axes: with a diagonalised tensor, "no rotation" means the
+        // user's axes are the world's, not the principal axes
+        let world_from_user = self.orientation(doc)?.unwrap_or(DQuat::IDENTITY);
+        body.set_orientation_user(world_from_user);
         if let Some(v) = self.bounded3("velocity", &doc.velocity, MAX_SPEED, "m/s")? {
             body.state.velocity = v;
         }

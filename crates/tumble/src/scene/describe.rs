@@ -31,13 +31,18 @@ fn g(x: f64) -> String {
     }
 }
 
+/// A vector; components below 1e-12 of the largest are round-off of a frame change and shown as 0.
 fn v3(v: DVec3) -> String {
-    format!("[{}, {}, {}]", g(v.x), g(v.y), g(v.z))
+    let scale = v.abs().max_element();
+    let c = |x: f64| g(if x.abs() <= 1e-12 * scale { 0.0 } else { x });
+    format!("[{}, {}, {}]", c(v.x), c(v.y), c(v.z))
 }
 
-/// `[w, x, y, z]`, as in files.
+/// `[w, x, y, z]`, as in files, with `w ≥ 0` (`q` and `−q` are the same rotation).
 fn wxyz(q: DQuat) -> String {
-    format!("[{}, {}, {}, {}]", g(q.w), g(q.x), g(q.y), g(q.z))
+    let q = if q.w < 0.0 { -q } else { q };
+    let c = |x: f64| g(if x.abs() <= 1e-12 { 0.0 } else { x });
+    format!("[{}, {}, {}, {}]", c(q.w), c(q.x), c(q.y), c(q.z))
 }
 
 pub(crate) fn describe(scene: &Scene) -> String {
@@ -87,7 +92,7 @@ fn describe_body(out: &mut String, b: &RigidBody) {
             // columns of user_from_body: the principal axes in the user's body axes
             let _ = writeln!(
                 out,
-                "  principal axes in the body axes: {} {} {}",
+                "  principal axes, in the body axes: x' = {}, y' = {}, z' = {}",
                 v3(user_from_body * DVec3::X),
                 v3(user_from_body * DVec3::Y),
                 v3(user_from_body * DVec3::Z)

@@ -18,11 +18,19 @@ pub struct LineCol {
 
 /// Why a scene could not be loaded. `Display` gives the whole message, e.g.
 /// `scenes/x.toml:12:8: body[2].mass: must be finite and > 0 (got -1)`, with a `hint:` line where useful.
+/// The parts of the message are in [`SceneError::detail`] (boxed: errors are rare, results stay small).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{message}")]
 pub struct SceneError {
     /// The whole message, as displayed.
     pub message: String,
+    /// Its parts.
+    pub detail: Box<ErrorDetail>,
+}
+
+/// The parts of a [`SceneError`] message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorDetail {
     /// The file as given (or `<built-in demo>`).
     pub origin: String,
     /// Where in the file, when known (always for TOML values; for JSON syntax and type errors).
@@ -36,7 +44,7 @@ pub struct SceneError {
     /// A suggestion.
     pub hint: Option<String>,
     /// The source line and a caret under the column (TOML).
-    snippet: Option<String>,
+    pub snippet: Option<String>,
 }
 
 impl SceneError {
@@ -46,51 +54,62 @@ impl SceneError {
     }
 
     fn bare(origin: &str, position: Option<LineCol>, path: String, problem: String) -> Self {
-        let mut e = Self {
-            message: String::new(),
-            origin: origin.to_string(),
-            position,
-            path,
-            problem,
-            got: None,
-            hint: None,
-            snippet: None,
-        };
+        let detail =
+            ErrorDetail { origin: origin.to_string(), position, path, problem, got: None, hint: None, snippet: None };
+        let mut e = Self { message: String::new(), detail: Box::new(detail) };
         e.render();
         e
     }
 
+    /// Where in the file, when known.
+    pub fn position(&self) -> Option<LineCol> {
+        self.detail.position
+    }
+
+    /// The field path, e.g. `body[2].mass` (empty for errors about the whole file).
+    pub fn path(&self) -> &str {
+        &self.detail.path
+    }
+
     /// Adds the offending value.
     pub(crate) fn got(mut self, value: impl Into<String>) -> Self {
-        self.got = Some(value.into());
+        self.detail.got = Some(value.into());
         self.render();
         self
     }
 
     /// Adds a `hint:` line.
     pub(crate) fn hint(mut self, hint: impl Into<String>) -> Self {
-        self.hint = Some(hint.into());
+        self.detail.hint = Some(hint.into());
+        self.render();
+        self
+    }
+
+    /// Sets the position (for errors found before the text is parsed).
+    pub(crate) fn at(mut self, position: LineCol) -> Self {
+        self.detail.position = Some(position);
         self.render();
         self
     }
 
     fn render(&mut self) {
-        let mut m = self.origin.clone();
-        if let Some(p) = self.position {
+        let d = &self.detail;
+        let mut m = d.origin.clone();
+        if let Some(p) = d.position {
             let _ = write!(m, ":{}:{}", p.line, p.column);
         }
-        if !self.path.is_empty() {
-            let _ = write!(m, ": {}", self.path);
+        if !d.path.is_empty() {
+            let _ = write!(m, ": {}", d.path);
         }
-        let _ = write!(m, ": {}", self.problem);
-        if let Some(got) = &self.got {
+        let _ = write!(m, ": {}", d.problem);
+        if let Some(got) = &d.got {
             let _ = write!(m, " (got {got})");
         }
-        if let Some(snippet) = &self.snippet {
+        if let Some(snippet) = &d.snippet {
             m.push('\n');
             m.push_str(snippet);
         }
-        if let Some(hint) = &self.hint {
+        if let Some(hint) = &d.hint {
             let _ = write!(m, "\nhint: {hint}");
         }
         self.message = m;
@@ -128,7 +147,7 @@ impl Source<'_> {
         let position = span.map(|s| self.line_col(s.start));
         let mut e = SceneError::bare(self.origin, position, path.into(), problem.into());
         if let Some(span) = span {
-            e.snippet = self.snippet(span.start);
+            e.detail.snippet = self.snippet(span.start);
             e.render();
         }
         e
@@ -163,7 +182,7 @@ impl Source<'_> {
     }
 
     /// A TOML syntax error, or a TOML type/unknown-key error found while deserializing.
-    pub fn from_toml(&self, err: &toml::de::Error, path: String) -> SceneError {
+    pub fn toml_error(&self, err: &toml::de::Error, path: String) -> SceneError {
         let span = err.span();
         let (problem, hint) = reword_serde(err.message().trim());
         let mut e = self.error(span.as_ref(), path, problem);
@@ -174,7 +193,7 @@ impl Source<'_> {
     }
 
     /// A JSON syntax or type error (serde_json gives line and column).
-    pub fn from_json(&self, err: &serde_json::Error, path: String) -> SceneError {
+    pub fn json_error(&self, err: &serde_json::Error, path: String) -> SceneError {
         let text = err.to_string();
         let message = match text.rfind(" at line ") {
             Some(i) => &text[..i],

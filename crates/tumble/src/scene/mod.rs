@@ -16,7 +16,7 @@ pub mod error;
 mod grid;
 pub mod schema;
 
-pub use error::{LineCol, SceneError};
+pub use error::{ErrorDetail, LineCol, SceneError};
 
 use crate::world::World;
 use std::io::Read;
@@ -135,10 +135,10 @@ fn decode_utf8(origin: &str, bytes: Vec<u8>) -> Result<String, SceneError> {
         let bytes = e.as_bytes();
         let prefix = std::str::from_utf8(&bytes[..valid]).unwrap_or("");
         let src = error::Source { origin, text: prefix, format: Format::Json };
-        let mut err = SceneError::file(origin, "the file is not valid UTF-8 text")
-            .got(format!("byte 0x{:02x} at offset {valid}", bytes.get(valid).copied().unwrap_or(0)));
-        err.position = Some(src.line_col(valid));
-        err.hint("save the scene as UTF-8")
+        SceneError::file(origin, "the file is not valid UTF-8 text")
+            .got(format!("byte 0x{:02x} at offset {valid}", bytes.get(valid).copied().unwrap_or(0)))
+            .hint("save the scene as UTF-8")
+            .at(src.line_col(valid))
     })
 }
 
@@ -155,10 +155,10 @@ pub fn from_str(text: &str, origin: &str, format: Format) -> Result<Scene, Scene
 }
 
 fn parse_toml(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
-    let de = toml::Deserializer::parse(src.text).map_err(|e| src.from_toml(&e, String::new()))?;
+    let de = toml::Deserializer::parse(src.text).map_err(|e| src.toml_error(&e, String::new()))?;
     let _spans = schema::SpanGuard::enable();
     let doc: schema::Table<schema::SceneDoc> =
-        serde_path_to_error::deserialize(de).map_err(|e| src.from_toml(e.inner(), error::path_text(e.path())))?;
+        serde_path_to_error::deserialize(de).map_err(|e| src.toml_error(e.inner(), error::path_text(e.path())))?;
     Ok(doc.0)
 }
 
@@ -168,8 +168,8 @@ fn parse_json(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
     }
     let mut de = serde_json::Deserializer::from_str(src.text);
     let doc: schema::Table<schema::SceneDoc> =
-        serde_path_to_error::deserialize(&mut de).map_err(|e| src.from_json(e.inner(), error::path_text(e.path())))?;
-    de.end().map_err(|e| src.from_json(&e, String::new()))?;
+        serde_path_to_error::deserialize(&mut de).map_err(|e| src.json_error(e.inner(), error::path_text(e.path())))?;
+    de.end().map_err(|e| src.json_error(&e, String::new()))?;
     Ok(doc.0)
 }
 
