@@ -187,3 +187,21 @@ fn a_special_file_is_written_in_place() {
     tumble(dir.path()).args(["run", "--duration", "0.1", "--out", "null.csv", "-q"]).assert().success();
     assert!(fs::symlink_metadata(dir.path().join("null.csv")).unwrap().file_type().is_symlink());
 }
+
+#[test]
+fn a_file_size_limit_mid_run_is_exit_4_and_the_previous_file_survives() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("t.csv"), "previous\n").unwrap();
+    // a file-size limit of 32 KiB, with SIGXFSZ ignored so that the write fails with EFBIG
+    let command = format!("trap '' XFSZ; ulimit -f 64; exec {} run --out t.csv -q", env!("CARGO_BIN_EXE_tumble"));
+    let output = std::process::Command::new("sh").args(["-c", &command]).current_dir(dir.path()).output().unwrap();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(4), "{stderr}");
+    assert!(stderr.starts_with("error: cannot write 't.csv': File too large"), "{stderr}");
+    assert!(stderr.contains("t.csv.partial"), "{stderr}");
+    assert_eq!(fs::read_to_string(dir.path().join("t.csv")).unwrap(), "previous\n", "the previous file survives");
+    // what was written before the failure is valid, up to its last whole line
+    let partial = fs::read_to_string(dir.path().join("t.csv.partial")).unwrap();
+    let rows = parse_csv(&partial[..partial.rfind('\n').unwrap() + 1]);
+    assert!(rows.len() > 100, "{}", rows.len());
+}

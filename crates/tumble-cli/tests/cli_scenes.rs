@@ -106,7 +106,13 @@ fn a_scene_error_is_exit_2_with_file_line_column_and_nothing_written() {
     fs::write(dir.path().join("syntax.toml"), "version = 1\n[[body]\n").unwrap();
     tumble(dir.path()).args(["run", "syntax.toml"]).assert().code(2).stderr(contains("syntax.toml:2:"));
     tumble(dir.path()).args(["run", "."]).assert().code(2).stderr(predicate::str::starts_with("error: "));
-    assert_eq!(files(dir.path()).len(), 2, "{:?}", files(dir.path()));
+    fs::write(dir.path().join("binary.toml"), b"version = 1\n\xff\xfe\n").unwrap();
+    tumble(dir.path())
+        .args(["run", "binary.toml"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::starts_with("error: binary.toml:").and(contains("UTF-8")));
+    assert_eq!(files(dir.path()).len(), 3, "{:?}", files(dir.path()));
 }
 
 #[test]
