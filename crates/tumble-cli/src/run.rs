@@ -123,15 +123,16 @@ fn apply_overrides(scene: &mut Scene, args: &RunArgs) -> Result<(), Failure> {
         config.sample_every = k;
     }
     config.validate().map_err(|e| {
+        // the flag behind the bad setting, and its value
         let flag = match e.field {
-            "dt" if args.dt.is_some() => Some("--dt"),
-            "duration" if args.duration.is_some() => Some("--duration"),
-            "duration" if args.dt.is_some() => Some("--dt"),
-            "sample_every" if args.sample_every.is_some() => Some("--sample-every"),
+            "dt" if args.dt.is_some() => Some(("--dt", e.value.clone())),
+            "duration" if args.duration.is_some() => Some(("--duration", e.value.clone())),
+            "duration" => args.dt.map(|dt| ("--dt", dt.to_string())),
+            "sample_every" if args.sample_every.is_some() => Some(("--sample-every", e.value.clone())),
             _ => None,
         };
         match flag {
-            Some(flag) => Failure::bad_input(format!("{flag}: {} (got {})", e.problem, e.value)),
+            Some((flag, value)) => Failure::bad_input(format!("{flag}: {} (got {value})", e.problem)),
             None => Failure::bad_input(format!("{}: [world] {e}", scene.origin)),
         }
     })
@@ -252,7 +253,11 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
     let mut stdout = Stdout::default();
     let stdout_failure = |e: std::io::Error| Failure::output(format!("cannot write to standard output: {e}"));
     if !quiet {
-        stdout.write(&report::start_line(&origin, &world, &out)).map_err(stdout_failure)?;
+        if let Err(e) = stdout.write(&report::start_line(&origin, &world, &out)) {
+            trajectory_out.discard();
+            summary_out.into_iter().for_each(OutputFile::discard);
+            return Err(stdout_failure(e));
+        }
     }
     let progress_allowed = !quiet && std::io::stderr().is_terminal();
     let mut ticker = Ticker::new(world.config.step_count(), world.free_bodies().count(), progress_allowed)
@@ -264,13 +269,14 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
     let outcome = match finished {
         Ok(outcome) => outcome,
         Err(e) => {
-            if let Some(s) = summary_out {
-                s.discard();
-            }
+            summary_out.into_iter().for_each(OutputFile::discard);
             return Err(loop_failure(e, &out, trajectory_out.partial()));
         }
     };
-    trajectory_out.commit().map_err(|e| Failure::output(cannot_write(&out, &e)))?;
+    if let Err(e) = trajectory_out.commit() {
+        summary_out.into_iter().for_each(OutputFile::discard);
+        return Err(Failure::output(cannot_write(&out, &e)));
+    }
 
     let reason = match outcome.stop {
         Stop::Completed => StopReason::Completed,

@@ -135,3 +135,11 @@ fn a_wall_time_limit_must_be_positive() {
         assert!(stderr.contains("--max-wall-time: must be finite and > 0"), "{limit}: {stderr}");
     }
 }
+
+#[test]
+fn a_step_that_makes_too_many_steps_is_named_with_its_value() {
+    // the demo lasts 30 s: 30 / 1e-8 = 3e9 steps, over the cap
+    let stderr = bad_input(&["run", "--dt", "1e-8"]);
+    assert!(stderr.starts_with("error: --dt: duration/dt = 3e9 steps exceeds the cap"), "{stderr}");
+    assert!(stderr.contains("(got 0.00000001)"), "{stderr}");
+}

@@ -205,3 +205,18 @@ fn a_file_size_limit_mid_run_is_exit_4_and_the_previous_file_survives() {
     let rows = parse_csv(&partial[..partial.rfind('\n').unwrap() + 1]);
     assert!(rows.len() > 100, "{}", rows.len());
 }
+
+#[test]
+fn a_stdout_that_cannot_be_written_is_exit_4_before_simulating() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "--duration", "1e4", "--out", "t.csv", "--summary", "s.json"])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(4), "{stderr}");
+    assert!(stderr.starts_with("error: cannot write to standard output"), "{stderr}");
+    assert!(files(dir.path()).is_empty(), "{:?}", files(dir.path()));
+}
