@@ -1,10 +1,12 @@
 //! The run loop allocates nothing per step: the allocations of a run of 100 steps and of a run of
 //! 3000 steps are the same, for every integrator and both formats, writing every step.
 //!
-//! One test in this file only: the counting allocator sees every thread of the process.
+//! The allocator counts the allocations of each thread separately, so that the test harness's own
+//! threads do not disturb the count.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::cell::Cell;
+use std::sync::atomic::AtomicBool;
 use tumble::trajectory::{Format, TrajectoryWriter};
 use tumble::Integrator;
 use tumble_cli::report::Ticker;
@@ -12,18 +14,30 @@ use tumble_cli::run::{simulate, Stop};
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations (and reallocations) made by this thread.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot may be gone while the thread ends
+    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+}
+
+fn allocations_so_far() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -40,9 +54,9 @@ fn allocations(integrator: Integrator, format: Format, steps: u64) -> usize {
     let mut writer = TrajectoryWriter::new(std::io::sink(), format, &world).unwrap();
     let mut ticker = Ticker::new(steps, 2, false);
     let stop = AtomicBool::new(false);
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = allocations_so_far();
     let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
-    let after = ALLOCATIONS.load(Ordering::Relaxed);
+    let after = allocations_so_far();
     assert!(matches!(outcome.stop, Stop::Completed));
     assert_eq!(world.steps(), steps);
     after - before
