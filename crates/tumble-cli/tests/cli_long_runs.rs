@@ -20,31 +20,36 @@ fn on_a_terminal(dir: &std::path::Path, args: &str) -> Option<String> {
 #[test]
 fn a_long_run_on_a_terminal_shows_a_progress_bar_unless_quiet() {
     let dir = tempfile::tempdir().unwrap();
-    // 600 000 steps: well over a second in a debug build
-    let Some(screen) = on_a_terminal(dir.path(), "run --duration 600 --out t.csv") else {
+    // a run that stops at 2.5 s of wall time, whatever the speed of the build
+    let run = "run --duration 100000 --max-wall-time 2.5 --out t.csv";
+    let Some(screen) = on_a_terminal(dir.path(), run) else {
         eprintln!("skipped: `script` is not installed");
         return;
     };
-    assert!(screen.contains("/600000"), "no progress bar in:\n{screen}");
+    assert!(screen.contains("/100000000, "), "no progress bar in:\n{screen}");
     assert!(screen.contains("energy error"), "the table follows:\n{screen}");
-    let quiet = on_a_terminal(dir.path(), "run --duration 600 --out t.csv --quiet").unwrap();
+    let quiet = on_a_terminal(dir.path(), &format!("{run} --quiet")).unwrap();
     assert!(quiet.is_empty(), "--quiet shows nothing: {quiet}");
 }
 
 #[test]
 fn a_run_without_a_terminal_shows_no_progress_bar() {
     let dir = tempfile::tempdir().unwrap();
-    let output = tumble(dir.path()).args(["run", "--duration", "300", "--out", "t.csv"]).output().unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "--duration", "100000", "--max-wall-time", "1.5", "--out", "t.csv"])
+        .output()
+        .unwrap();
     assert!(output.status.success());
-    assert!(output.stderr.is_empty(), "{}", String::from_utf8_lossy(&output.stderr));
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(stderr.starts_with("stopped at the wall-time limit") && stderr.lines().count() == 1, "{stderr}");
 }
 
 #[test]
 fn a_killed_run_leaves_a_partial_file_flushed_about_every_second() {
     let dir = tempfile::tempdir().unwrap();
-    // one sample every 100 000 steps: the 64 KiB buffer never fills, only the periodic flush writes
+    // one sample every 10⁶ steps: the 64 KiB buffer never fills, only the periodic flush writes
     let mut child = tumble(dir.path())
-        .args(["run", "--duration", "1000", "--sample-every", "100000", "--out", "t.csv", "-q"])
+        .args(["run", "--duration", "100000", "--sample-every", "1000000", "--out", "t.csv", "-q"])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
