@@ -1,4 +1,8 @@
 //! The command line.
+//!
+//! The doc comments below are the `--help` text, written for the terminal: `[world]` there names the
+//! scene's table and `<scene name>` a placeholder, not an item or a tag.
+#![allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
 
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;

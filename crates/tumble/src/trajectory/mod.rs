@@ -8,7 +8,8 @@
 //! Everything written is in the world frame and SI units: position of the centre of mass (m),
 //! orientation `[w, x, y, z]` of the body axes the user gave (`world_from_user`), velocity of the
 //! centre of mass (m/s), angular velocity (rad/s). Numbers are written as the shortest text that reads
-//! back to the same `f64` (`ryu`), so re-reading a file gives the exact values. A non-finite value is
+//! back to the same `f64` (`ryu`), so re-reading a file gives the exact values (Python's `float` and
+//! `json` read them exactly; serde_json needs its `float_roundtrip` feature). A non-finite value is
 //! never written: it is an error ([`TrajectoryError::NonFinite`]).
 //!
 //! CSV (header exactly as below, one row per sample per non-fixed body):

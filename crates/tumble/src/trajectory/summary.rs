@@ -9,7 +9,7 @@
 //!
 //! Fields added beyond the contract (never renamed): `energy.error_is_absolute` and
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
-//! [`super::monitor`]), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`.
+//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`.
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -62,7 +62,7 @@ pub struct AngularMomentumSummary {
     pub error_is_absolute: bool,
 }
 
-/// Flips of one body about its intermediate principal axis (see [`super::monitor`]).
+/// Flips of one body about its intermediate principal axis (see [`Monitor`](super::Monitor)).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FlipSummary {
     /// The body's name.
