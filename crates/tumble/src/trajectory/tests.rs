@@ -328,3 +328,50 @@ fn a_non_finite_summary_is_refused_naming_the_field() {
     summary.wall_time_s = f64::INFINITY;
     assert!(summary.to_json().unwrap_err().to_string().contains("wall_time_s"));
 }
+
+mod round_trip {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Any finite `f64`: normal, subnormal, zero of either sign, of any magnitude.
+    fn finite() -> impl Strategy<Value = f64> {
+        use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+        POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+    }
+
+    /// A moderate `f64`, so that rotating it stays finite.
+    fn moderate() -> impl Strategy<Value = f64> {
+        finite().prop_map(|x| if x.abs() > 1e150 { x * 1e-160 } else { x })
+    }
+
+    proptest! {
+        #[test]
+        fn every_written_number_reads_back_bit_exactly(
+            position in [finite(), finite(), finite()],
+            velocity in [finite(), finite(), finite()],
+            omega in [moderate(), moderate(), moderate()],
+            axis in [-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64],
+            angle in -10.0..10.0f64,
+            steps in 0u64..1_000_000,
+        ) {
+            let mut b = body("p", [1.0, 2.0, 3.0]);
+            b.state.position = DVec3::from_array(position);
+            b.state.velocity = DVec3::from_array(velocity);
+            b.state.omega_body = DVec3::from_array(omega);
+            b.state.orientation = DQuat::from_scaled_axis(DVec3::from_array(axis).normalize_or_zero() * angle);
+            let config = WorldConfig { dt: 1.0 / 3.0, ..Default::default() };
+            let mut world = World::new(config, vec![b]);
+            for _ in 0..steps % 3 {
+                world.step().unwrap_or_default();
+            }
+            let expected = expected_values(&world.bodies[0]);
+            prop_assume!(expected.iter().all(|x| x.is_finite()));
+            let csv = write(&world, Format::Csv, 1);
+            let row = csv_fields(csv.lines().nth(1).unwrap());
+            prop_assert_eq!(row[0].parse::<f64>().unwrap().to_bits(), world.time().to_bits());
+            for (text, e) in row[2..].iter().zip(&expected) {
+                prop_assert_eq!(text.parse::<f64>().unwrap().to_bits(), e.to_bits(), "{} vs {}", text, e);
+            }
+        }
+    }
+}
