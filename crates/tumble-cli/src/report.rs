@@ -106,7 +106,9 @@ fn seconds(s: f64) -> String {
 
 /// `3.1e-12 (max relative)`, or the absolute error with its unit when the initial value was zero.
 fn error_text(error: f64, absolute: bool, unit: &str) -> String {
-    if absolute {
+    if !error.is_finite() {
+        "not finite (the state overflowed)".to_string()
+    } else if absolute {
         format!("{error:.2e} {unit} (max absolute: the initial value is 0)")
     } else {
         format!("{error:.2e} (max relative)")
@@ -233,6 +235,19 @@ mod tests {
         let mut fresh = Ticker::new(1_000_000, 2, true);
         fresh.tick(512);
         assert!(!fresh.bar_shown(), "a run shorter than a second shows no bar");
+    }
+
+    #[test]
+    fn the_table_never_shows_nan() {
+        let world = tumble::scene::demo().world;
+        let monitor = tumble::trajectory::Monitor::new(&world);
+        let mut summary = Summary::new(&world, &monitor, 0.0, StopReason::Completed, "<demo>");
+        summary.energy.max_relative_error = f64::NAN;
+        summary.angular_momentum.max_relative_error = f64::INFINITY;
+        let text = table(&summary, Path::new("out/demo.csv"), Format::Csv, None);
+        assert!(!text.to_lowercase().contains("nan") && !text.contains("inf"), "{text}");
+        assert!(text.contains("not finite"), "{text}");
+        assert!(text.contains("body-steps/s               -"), "no rate for a zero wall time: {text}");
     }
 
     #[test]
