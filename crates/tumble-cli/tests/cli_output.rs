@@ -220,3 +220,16 @@ fn a_stdout_that_cannot_be_written_is_exit_4_before_simulating() {
     assert!(stderr.starts_with("error: cannot write to standard output"), "{stderr}");
     assert!(files(dir.path()).is_empty(), "{:?}", files(dir.path()));
 }
+
+#[test]
+fn the_summary_can_go_to_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "--duration", "0.5", "--out", "t.csv", "--summary", "/dev/stdout", "-q"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(summary["steps"], 500);
+    assert_eq!(files(dir.path()), [PathBuf::from("t.csv")]);
+}
