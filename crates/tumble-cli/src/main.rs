@@ -1,1 +1,5 @@
-fn main() {}
+//! The `tumble` command-line tool: see `tumble --help` and the `tumble_cli` library.
+
+fn main() -> std::process::ExitCode {
+    tumble_cli::main()
+}

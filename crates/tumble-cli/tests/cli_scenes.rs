@@ -1,0 +1,229 @@
+//! `tumble run` and `tumble check` on scene files: divergence (exit 3, valid output up to the last
+//! finite state), scene errors (exit 2, file:line:col, nothing written), warnings, flag overrides,
+//! default output paths, and every scene shipped in `scenes/`.
+
+mod common;
+
+use assert_cmd::prelude::*;
+use common::{files, parse_csv, rows_of, tumble};
+use predicates::prelude::*;
+use predicates::str::contains;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A body driven by a torque of 1.05e12 N·m about a unit moment: its spin passes the sanity bound
+/// of 1e10 rad/s between t = 9 ms and t = 10 ms (step 10 of 1 ms).
+const RUNAWAY: &str = r#"
+version = 1
+
+[world]
+gravity = [0.0, 0.0, 0.0]
+dt = 0.001
+duration = 1.0
+sample_every = 4
+
+[[body]]
+name = "calm"
+mass = 1.0
+inertia = [1.0, 2.0, 3.0]
+angular_velocity = [0.0, 1.0, 0.0]
+
+[[body]]
+name = "runaway"
+mass = 1.0
+inertia = [1.0, 1.0, 1.0]
+position = [2.0, 0.0, 0.0]
+torque_body = [0.0, 0.0, 1.05e12]
+"#;
+
+#[test]
+fn a_diverging_run_is_exit_3_naming_body_quantity_step_and_time_and_its_output_stays_valid() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("runaway.toml"), RUNAWAY).unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "runaway.toml", "--out", "t.csv", "--summary", "s.json"])
+        .assert()
+        .code(3)
+        .get_output()
+        .clone();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(stderr.starts_with("error: simulation diverged: body `runaway`"), "{stderr}");
+    assert!(stderr.contains("angular velocity"), "{stderr}");
+    assert!(stderr.contains("at step 10, t = 0.01 s"), "{stderr}");
+    assert!(stderr.contains("t.csv"), "{stderr}");
+
+    // samples at steps 0, 4, 8, then the last finite state, step 9
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("t.csv")).unwrap());
+    let runaway: Vec<f64> = rows_of(&rows, "runaway").iter().map(|r| r.t).collect();
+    assert_eq!(runaway, [0.0, 4.0, 8.0, 9.0].map(|n| n * 0.001), "t = steps · dt exactly");
+    assert_eq!(rows_of(&rows, "calm").len(), 4);
+    let spin = rows_of(&rows, "runaway").last().unwrap().values[12];
+    assert!((spin - 1.05e12 * 0.009).abs() < 1.0, "ω_z = τ t at the last finite state: {spin}");
+
+    let summary = read_json(&dir.path().join("s.json"));
+    assert_eq!(summary["stopped"], "diverged");
+    assert_eq!(summary["steps"], 9);
+    assert_eq!(summary["samples"], 4);
+    assert!(common::json_close(&summary["simulated_time"], 9.0 * 0.001), "{}", summary["simulated_time"]);
+    let mut names = files(dir.path());
+    names.sort();
+    assert_eq!(names, ["runaway.toml", "s.json", "t.csv"].map(PathBuf::from), "no .partial left");
+}
+
+#[test]
+fn a_diverging_run_in_json_lines_stays_valid() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("runaway.toml"), RUNAWAY).unwrap();
+    tumble(dir.path()).args(["run", "runaway.toml", "--out", "t.jsonl", "-q"]).assert().code(3);
+    let text = fs::read_to_string(dir.path().join("t.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    assert_eq!(lines.len(), 4);
+    assert!(!text.contains("null") && !text.contains("NaN"));
+}
+
+#[test]
+fn a_scene_error_is_exit_2_with_file_line_column_and_nothing_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = "version = 1\n\n[[body]]\nname = \"a\"\nmass = -1.0\ninertia = [1.0, 2.0, 3.0]\n";
+    fs::write(dir.path().join("bad.toml"), bad).unwrap();
+    for command in ["run", "check"] {
+        tumble(dir.path())
+            .args([command, "bad.toml"])
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(predicate::str::starts_with("error: bad.toml:5:8: body[0].mass:").and(contains("(got -1)")));
+        assert_eq!(files(dir.path()), [PathBuf::from("bad.toml")], "{command}");
+    }
+    fs::write(dir.path().join("syntax.toml"), "version = 1\n[[body]\n").unwrap();
+    tumble(dir.path()).args(["run", "syntax.toml"]).assert().code(2).stderr(contains("syntax.toml:2:"));
+    tumble(dir.path()).args(["run", "."]).assert().code(2).stderr(predicate::str::starts_with("error: "));
+    fs::write(dir.path().join("binary.toml"), b"version = 1\n\xff\xfe\n").unwrap();
+    tumble(dir.path())
+        .args(["run", "binary.toml"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::starts_with("error: binary.toml:").and(contains("UTF-8")));
+    assert_eq!(files(dir.path()).len(), 3, "{:?}", files(dir.path()));
+}
+
+#[test]
+fn flags_override_the_world_table() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("r.toml"), RUNAWAY.replace("torque_body = [0.0, 0.0, 1.05e12]", "")).unwrap();
+    tumble(dir.path())
+        .args(["run", "r.toml", "--dt", "0.005", "--duration", "0.1", "--integrator", "dopri5"])
+        .args(["--sample-every", "1", "--summary", "s.json", "-q"])
+        .assert()
+        .success();
+    let summary = read_json(&dir.path().join("s.json"));
+    assert!(common::json_close(&summary["dt"], 0.005), "{}", summary["dt"]);
+    assert_eq!(summary["steps"], 20);
+    assert_eq!(summary["integrator"], "dopri5");
+    assert_eq!(summary["samples"], 21);
+    // the default output of a scene: out/<scene name>.csv
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("out/r.csv")).unwrap());
+    assert_eq!(rows.len(), 42);
+}
+
+#[test]
+fn a_flag_that_breaks_the_scene_world_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("r.toml"), RUNAWAY).unwrap();
+    tumble(dir.path())
+        .args(["run", "r.toml", "--dt", "0"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::starts_with("error: --dt: must be finite and > 0 (got 0)"));
+    assert_eq!(files(dir.path()), [PathBuf::from("r.toml")]);
+}
+
+#[test]
+fn warnings_are_shown_by_check_and_run_but_not_with_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = RUNAWAY
+        .replace("torque_body = [0.0, 0.0, 1.05e12]", "")
+        .replace("position = [2.0, 0.0, 0.0]", "position = [2.0, 0.0, 0.0]\norientation = [1.0001, 0.0, 0.0, 0.0]");
+    fs::write(dir.path().join("w.toml"), scene).unwrap();
+    tumble(dir.path())
+        .args(["check", "w.toml"])
+        .assert()
+        .success()
+        .stdout(contains("warning: w.toml:").and(contains("not a unit quaternion")).and(contains("runaway")));
+    tumble(dir.path())
+        .args(["run", "w.toml", "--duration", "0.01"])
+        .assert()
+        .success()
+        .stderr(predicate::str::starts_with("warning: w.toml:"));
+    tumble(dir.path()).args(["run", "w.toml", "--duration", "0.01", "-q"]).assert().success().stdout("").stderr("");
+}
+
+#[test]
+fn check_describes_the_demo_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path())
+        .arg("check")
+        .arg(scenes_dir().join("demo.toml"))
+        .assert()
+        .success()
+        .stdout(contains("flipper").and(contains("stable")))
+        .stderr("");
+    assert!(files(dir.path()).is_empty(), "check writes nothing");
+}
+
+#[test]
+fn every_shipped_scene_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scenes: Vec<PathBuf> = fs::read_dir(scenes_dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml" || e == "json"))
+        .collect();
+    scenes.sort();
+    assert!(!scenes.is_empty());
+    for scene in &scenes {
+        let stem = scene.file_stem().unwrap().to_str().unwrap();
+        let summary = dir.path().join(format!("{stem}.json"));
+        tumble(dir.path())
+            .arg("run")
+            .arg(scene)
+            .args(["--duration", "0.02", "-q", "--summary"])
+            .arg(&summary)
+            .assert()
+            .success();
+        let rows = parse_csv(&fs::read_to_string(dir.path().join(format!("out/{stem}.csv"))).unwrap());
+        let summary = read_json(&summary);
+        assert_eq!(summary["stopped"], "completed", "{stem}");
+        let samples = summary["samples"].as_u64().unwrap() as usize;
+        assert_eq!(rows.len(), samples * summary["free_bodies"].as_u64().unwrap() as usize, "{stem}");
+    }
+}
+
+#[test]
+fn the_readme_examples_run() {
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let commands: Vec<&str> = readme.lines().filter_map(|l| l.strip_prefix("$ tumble ")).collect();
+    assert_eq!(commands.len(), 3);
+    let dir = tempfile::tempdir().unwrap();
+    for command in commands {
+        let args: Vec<String> = command
+            .split_whitespace()
+            .map(|a| match a.strip_prefix("scenes/") {
+                Some(name) => scenes_dir().join(name).to_string_lossy().into_owned(),
+                None => a.to_string(),
+            })
+            .collect();
+        tumble(dir.path()).args(&args).assert().success();
+    }
+    assert!(dir.path().join("out/demo.csv").is_file());
+    assert!(dir.path().join("out/top.jsonl").is_file());
+    assert_eq!(read_json(&dir.path().join("out/top.json"))["integrator"], "splitting4");
+}

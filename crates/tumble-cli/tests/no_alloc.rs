@@ -1,0 +1,74 @@
+//! The run loop allocates nothing per step: the allocations of a run of 100 steps and of a run of
+//! 3000 steps are the same, for every integrator and both formats, writing every step.
+//!
+//! The allocator counts the allocations of each thread separately, so that the test harness's own
+//! threads do not disturb the count.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::AtomicBool;
+use tumble::trajectory::{Format, TrajectoryWriter};
+use tumble::Integrator;
+use tumble_cli::report::Ticker;
+use tumble_cli::run::{simulate, Stop};
+
+struct Counting;
+
+thread_local! {
+    /// Allocations (and reallocations) made by this thread.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot may be gone while the thread ends
+    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+}
+
+fn allocations_so_far() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Allocations made by `simulate` over `steps` steps of the demo, every step written to a sink.
+fn allocations(integrator: Integrator, format: Format, steps: u64) -> usize {
+    let mut world = tumble::scene::demo().world;
+    world.config.integrator = integrator;
+    world.config.duration = steps as f64 * world.config.dt;
+    world.config.sample_every = 1;
+    let mut writer = TrajectoryWriter::new(std::io::sink(), format, &world).unwrap();
+    let mut ticker = Ticker::new(steps, 2, false);
+    let stop = AtomicBool::new(false);
+    let before = allocations_so_far();
+    let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
+    let after = allocations_so_far();
+    assert!(matches!(outcome.stop, Stop::Completed));
+    assert_eq!(world.steps(), steps);
+    after - before
+}
+
+#[test]
+fn the_run_loop_allocates_nothing_per_step() {
+    for integrator in Integrator::ALL {
+        for format in [Format::Csv, Format::JsonLines] {
+            let short = allocations(integrator, format, 100);
+            let long = allocations(integrator, format, 3000);
+            assert_eq!(short, long, "{integrator} {format:?}: {short} allocations for 100 steps, {long} for 3000");
+        }
+    }
+}

@@ -1,0 +1,217 @@
+//! The invariant monitor: how well a run keeps energy and momentum, and how often bodies flip.
+//!
+//! **Errors.** At every observed sample the monitor measures
+//! `|E − E₀| / |E₀|` (energy, kinetic plus gravitational potential) and `|L − L₀| / |L₀|` (angular
+//! momentum about the world origin, Euclidean norm of the vector difference) and keeps the largest.
+//! When the initial value is exactly zero (a body at rest at the origin, a world with no spin) a
+//! relative error has no meaning; the error is then the **absolute** error `|E − E₀|` (J) or
+//! `|L − L₀|` (kg·m²/s), and [`Monitor::energy_error_is_absolute`] /
+//! [`Monitor::angular_momentum_error_is_absolute`] say so. See [`relative_error`].
+//!
+//! **Flips.** A body whose three principal moments are distinct has an intermediate axis, about which
+//! rotation is unstable (the Dzhanibekov or tennis-racket effect): the body turns over again and
+//! again, and each turn reverses the sign of the body-frame angular velocity `ω_body` about that axis
+//! (and of the angular momentum `L_body = I_body ω_body` along it). A plain sign change is not enough:
+//! a body spinning stably about its largest or smallest axis wobbles, and the small components of
+//! `ω_body` change sign at every wobble. So a flip is counted with hysteresis, on the direction cosine
+//! `c = L_body[axis] / |L_body|` of the intermediate axis with the angular momentum: one flip each time
+//! `c` goes from `≥ +½` to `≤ −½` or back, that is, each time the intermediate axis turns from within
+//! 60° of `L` to within 60° of `−L`. The samples must be closer together than the flips for the count
+//! to be complete. A body with two equal moments (relative difference ≤ [`DISTINCT_MOMENTS_TOLERANCE`]
+//! of the largest) has no intermediate axis and no flip count.
+use crate::math::DVec3;
+use crate::world::World;
+
+/// Two principal moments closer than this fraction of the largest are taken as equal.
+pub const DISTINCT_MOMENTS_TOLERANCE: f64 = 1e-9;
+
+/// The direction cosine of the intermediate axis with `L` beyond which the axis counts as aligned
+/// with `L` (or `−L`): `cos 60°`.
+pub const FLIP_ALIGNMENT: f64 = 0.5;
+
+/// The quantities a free rigid-body system conserves, at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Invariants {
+    /// Kinetic plus gravitational potential energy of the free bodies (J).
+    pub energy: f64,
+    /// Total linear momentum, world frame (kg·m/s).
+    pub linear_momentum: DVec3,
+    /// Total angular momentum about the world origin, world frame (kg·m²/s).
+    pub angular_momentum: DVec3,
+}
+
+impl Invariants {
+    /// The invariants of `world` now.
+    pub fn of(world: &World) -> Self {
+        Self {
+            energy: world.energy(),
+            linear_momentum: world.linear_momentum(),
+            angular_momentum: world.angular_momentum(),
+        }
+    }
+}
+
+/// The error of a quantity against its initial value: `error / initial` when `initial > 0`, and the
+/// absolute `error` itself when `initial` is exactly zero (both are norms, so never negative).
+#[inline]
+pub fn relative_error(error: f64, initial: f64) -> f64 {
+    if initial > 0.0 {
+        error / initial
+    } else {
+        error
+    }
+}
+
+/// Counts the flips of one body about its intermediate principal axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlipCounter {
+    /// Index of the body in `World::bodies`.
+    pub body: usize,
+    /// The intermediate principal axis: 0, 1 or 2 (x, y or z of the body's principal frame).
+    pub axis: usize,
+    /// Flips seen so far.
+    pub count: u64,
+    /// The last alignment seen: +1 (with `L`), −1 (with `−L`), or 0 before the first.
+    last_side: f64,
+}
+
+impl FlipCounter {
+    /// The index of the intermediate moment, when the three moments are distinct.
+    pub fn intermediate_axis(moments: DVec3) -> Option<usize> {
+        let m = moments.to_array();
+        let mut order = [0, 1, 2];
+        order.sort_by(|&a, &b| m[a].total_cmp(&m[b]));
+        let [low, mid, high] = order.map(|i| m[i]);
+        let tolerance = DISTINCT_MOMENTS_TOLERANCE * high.abs();
+        (mid - low > tolerance && high - mid > tolerance).then_some(order[1])
+    }
+
+    /// A counter for body `body` about `axis`, with no alignment seen yet.
+    pub fn new(body: usize, axis: usize) -> Self {
+        Self { body, axis, count: 0, last_side: 0.0 }
+    }
+
+    /// Takes one more sample of the body-frame angular momentum `L_body = I_body ω_body` (kg·m²/s).
+    #[inline]
+    pub fn observe(&mut self, l_body: DVec3) {
+        let cosine = l_body[self.axis] / l_body.length();
+        let side = if cosine >= FLIP_ALIGNMENT {
+            1.0
+        } else if cosine <= -FLIP_ALIGNMENT {
+            -1.0
+        } else {
+            return; // in between, not spinning (0/0), or not finite: no alignment
+        };
+        if self.last_side != 0.0 && side != self.last_side {
+            self.count += 1;
+        }
+        self.last_side = side;
+    }
+}
+
+/// Watches a run at its samples: initial and latest invariants, largest errors, flips.
+#[derive(Debug, Clone)]
+pub struct Monitor {
+    initial: Invariants,
+    last: Invariants,
+    last_time: f64,
+    max_energy_error: f64,
+    max_angular_momentum_error: f64,
+    flips: Vec<FlipCounter>,
+    samples: u64,
+}
+
+impl Monitor {
+    /// Records the initial invariants of `world` and observes it as the first sample.
+    pub fn new(world: &World) -> Self {
+        let initial = Invariants::of(world);
+        let flips = world
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| !b.fixed)
+            .filter_map(|(i, b)| {
+                FlipCounter::intermediate_axis(b.mass.inertia_body).map(|axis| FlipCounter::new(i, axis))
+            })
+            .collect();
+        let mut monitor = Self {
+            initial,
+            last: initial,
+            last_time: world.time(),
+            max_energy_error: 0.0,
+            max_angular_momentum_error: 0.0,
+            flips,
+            samples: 0,
+        };
+        monitor.observe(world);
+        monitor
+    }
+
+    /// Observes one sample: updates the latest invariants, the largest errors and the flip counts.
+    pub fn observe(&mut self, world: &World) {
+        let now = Invariants::of(world);
+        let energy_error = relative_error((now.energy - self.initial.energy).abs(), self.initial.energy.abs());
+        let l_error = relative_error(
+            (now.angular_momentum - self.initial.angular_momentum).length(),
+            self.initial.angular_momentum.length(),
+        );
+        // `f64::max` would skip a NaN: keep it visible instead, so that it is caught when written
+        if energy_error.is_nan() || energy_error > self.max_energy_error {
+            self.max_energy_error = energy_error;
+        }
+        if l_error.is_nan() || l_error > self.max_angular_momentum_error {
+            self.max_angular_momentum_error = l_error;
+        }
+        for counter in &mut self.flips {
+            counter.observe(world.bodies[counter.body].angular_momentum_body());
+        }
+        self.last = now;
+        self.last_time = world.time();
+        self.samples += 1;
+    }
+
+    /// The invariants at the first sample.
+    pub fn initial(&self) -> Invariants {
+        self.initial
+    }
+
+    /// The invariants at the latest sample.
+    pub fn last(&self) -> Invariants {
+        self.last
+    }
+
+    /// The time of the latest sample (s).
+    pub fn last_time(&self) -> f64 {
+        self.last_time
+    }
+
+    /// Samples observed, the first included.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Largest energy error over the samples: relative, or absolute (J) when `E₀ = 0`.
+    pub fn max_energy_error(&self) -> f64 {
+        self.max_energy_error
+    }
+
+    /// Largest angular-momentum error over the samples: relative, or absolute (kg·m²/s) when `L₀ = 0`.
+    pub fn max_angular_momentum_error(&self) -> f64 {
+        self.max_angular_momentum_error
+    }
+
+    /// Whether the energy error is absolute because the initial energy is exactly zero.
+    pub fn energy_error_is_absolute(&self) -> bool {
+        self.initial.energy == 0.0
+    }
+
+    /// Whether the angular-momentum error is absolute because the initial angular momentum is zero.
+    pub fn angular_momentum_error_is_absolute(&self) -> bool {
+        self.initial.angular_momentum == DVec3::ZERO
+    }
+
+    /// The flip counters, one per free body with distinct principal moments, in body order.
+    pub fn flips(&self) -> &[FlipCounter] {
+        &self.flips
+    }
+}

@@ -1,0 +1,175 @@
+//! The run summary, serialised as the summary JSON of the contract:
+//!
+//! ```text
+//! {"steps", "simulated_time", "wall_time_s", "bodies", "integrator", "dt",
+//!  "energy": {"initial", "final", "max_relative_error"},
+//!  "linear_momentum": {"initial": [..], "final": [..]},
+//!  "angular_momentum": {"initial": [..], "final": [..], "max_relative_error"}}
+//! ```
+//!
+//! Fields added beyond the contract (never renamed): `energy.error_is_absolute` and
+//! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
+//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`.
+//! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
+
+use super::{Monitor, TrajectoryError};
+use crate::world::World;
+use serde::{Deserialize, Serialize};
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// Every step was taken.
+    Completed,
+    /// A body's state became non-finite or absurd; the summary describes the last finite state.
+    Diverged,
+    /// The run was interrupted (SIGINT/SIGTERM) after a whole step.
+    Interrupted,
+    /// The run reached its wall-time limit (`--max-wall-time`) and stopped after a whole step.
+    WallTimeLimit,
+}
+
+/// Energy: kinetic plus gravitational potential, of the free bodies (J).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EnergySummary {
+    pub initial: f64,
+    #[serde(rename = "final")]
+    pub final_: f64,
+    /// Largest `|E − E₀| / |E₀|` over the samples (or `|E − E₀|` in J when `E₀ = 0`).
+    pub max_relative_error: f64,
+    /// `E₀ = 0`: `max_relative_error` is the absolute error (J).
+    pub error_is_absolute: bool,
+}
+
+/// Total linear momentum of the free bodies, world frame (kg·m/s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LinearMomentumSummary {
+    pub initial: [f64; 3],
+    #[serde(rename = "final")]
+    pub final_: [f64; 3],
+}
+
+/// Total angular momentum of the free bodies about the world origin, world frame (kg·m²/s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AngularMomentumSummary {
+    pub initial: [f64; 3],
+    #[serde(rename = "final")]
+    pub final_: [f64; 3],
+    /// Largest `|L − L₀| / |L₀|` over the samples (or `|L − L₀|` in kg·m²/s when `L₀ = 0`).
+    pub max_relative_error: f64,
+    /// `L₀ = 0`: `max_relative_error` is the absolute error (kg·m²/s).
+    pub error_is_absolute: bool,
+}
+
+/// Flips of one body about its intermediate principal axis (see [`Monitor`](super::Monitor)).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FlipSummary {
+    /// The body's name.
+    pub body: String,
+    /// Sign changes of `ω_body` about the intermediate axis between samples.
+    pub flips: u64,
+}
+
+/// What a run did.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub simulated_time: f64,
+    /// Wall time of the simulation loop, stepping and writing (s).
+    pub wall_time_s: f64,
+    /// Number of bodies in the scene (fixed ones included).
+    pub bodies: usize,
+    /// The integrator's name.
+    pub integrator: String,
+    /// The step (s).
+    pub dt: f64,
+    pub energy: EnergySummary,
+    pub linear_momentum: LinearMomentumSummary,
+    pub angular_momentum: AngularMomentumSummary,
+    /// Why the run stopped.
+    pub stopped: StopReason,
+    /// Number of bodies that move.
+    pub free_bodies: usize,
+    /// Samples written to the trajectory (the initial one included).
+    pub samples: u64,
+    /// Every `sample_every`-th step was written (and the last one).
+    pub sample_every: u64,
+    /// Flip counts of the free bodies with three distinct principal moments.
+    pub flips: Vec<FlipSummary>,
+    /// Where the scene came from.
+    pub scene: String,
+}
+
+impl Summary {
+    /// The summary of a run of `world` watched by `monitor`. The final values are those of the
+    /// monitor's latest sample, which the caller makes the world's final (finite) state.
+    pub fn new(world: &World, monitor: &Monitor, wall_time_s: f64, stopped: StopReason, scene: &str) -> Self {
+        let initial = monitor.initial();
+        let last = monitor.last();
+        Self {
+            steps: world.steps(),
+            simulated_time: world.time(),
+            wall_time_s,
+            bodies: world.bodies.len(),
+            integrator: world.config.integrator.name().to_string(),
+            dt: world.config.dt,
+            energy: EnergySummary {
+                initial: initial.energy,
+                final_: last.energy,
+                max_relative_error: monitor.max_energy_error(),
+                error_is_absolute: monitor.energy_error_is_absolute(),
+            },
+            linear_momentum: LinearMomentumSummary {
+                initial: initial.linear_momentum.to_array(),
+                final_: last.linear_momentum.to_array(),
+            },
+            angular_momentum: AngularMomentumSummary {
+                initial: initial.angular_momentum.to_array(),
+                final_: last.angular_momentum.to_array(),
+                max_relative_error: monitor.max_angular_momentum_error(),
+                error_is_absolute: monitor.angular_momentum_error_is_absolute(),
+            },
+            stopped,
+            free_bodies: world.free_bodies().count(),
+            samples: monitor.samples(),
+            sample_every: world.config.sample_every,
+            flips: monitor
+                .flips()
+                .iter()
+                .map(|c| FlipSummary { body: world.bodies[c.body].name.clone(), flips: c.count })
+                .collect(),
+            scene: scene.to_string(),
+        }
+    }
+
+    /// The summary JSON (pretty-printed, ending with a newline). Fails, naming the field, when a
+    /// number is not finite (serde would write it as `null`).
+    pub fn to_json(&self) -> Result<String, TrajectoryError> {
+        let value = serde_json::to_value(self).expect("a summary always serialises");
+        if let Some(field) = first_null(&value, String::new()) {
+            return Err(TrajectoryError::NonFiniteSummary { field });
+        }
+        // serialised from the struct, not from `value`, to keep the fields in their documented order
+        let mut text = serde_json::to_string_pretty(self).expect("a summary always serialises");
+        text.push('\n');
+        Ok(text)
+    }
+}
+
+/// The path of the first `null` in `value` (a summary has no nullable field: a `null` is a
+/// non-finite number).
+fn first_null(value: &serde_json::Value, path: String) -> Option<String> {
+    use serde_json::Value;
+    match value {
+        Value::Null => Some(path),
+        Value::Array(items) => items.iter().enumerate().find_map(|(i, v)| first_null(v, format!("{path}[{i}]"))),
+        Value::Object(fields) => fields.iter().find_map(|(k, v)| {
+            let path = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
+            first_null(v, path)
+        }),
+        _ => None,
+    }
+}

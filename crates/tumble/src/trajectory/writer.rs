@@ -1,0 +1,229 @@
+//! The trajectory writers: CSV and JSON Lines.
+//!
+//! One call of [`TrajectoryWriter::write_sample`] writes the state of every non-fixed body at the
+//! world's current time. A sample is first checked (every value finite), then formatted body by body
+//! into a reused line buffer and handed to a [`BufWriter`]: after the first sample has sized the
+//! buffer, writing allocates nothing.
+
+use super::{Format, TrajectoryError};
+use crate::math::quat_to_wxyz;
+use crate::world::World;
+use crate::RigidBody;
+use std::io::{BufWriter, Write};
+
+/// The CSV header, exactly (the contract).
+pub const CSV_HEADER: &str = "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+
+/// Capacity of the output buffer (bytes).
+const BUFFER_CAPACITY: usize = 64 * 1024;
+
+/// Writes a trajectory, one sample at a time, to a sink (a file, a pipe, memory).
+#[derive(Debug)]
+pub struct TrajectoryWriter<W: Write> {
+    sink: BufWriter<W>,
+    format: Format,
+    /// Each body's name as it is written: CSV-quoted when needed, or a JSON string literal.
+    names: Vec<String>,
+    /// The text of one row (CSV) or of one body (JSON), reused.
+    line: Vec<u8>,
+    samples: u64,
+}
+
+/// What is written of one body, all world frame: position (m), orientation `[w, x, y, z]` of the
+/// user's body axes, velocity (m/s), angular velocity (rad/s).
+struct Row {
+    position: [f64; 3],
+    orientation: [f64; 4],
+    velocity: [f64; 3],
+    angular_velocity: [f64; 3],
+}
+
+impl Row {
+    #[inline]
+    fn of(body: &RigidBody) -> Row {
+        let s = &body.state;
+        Row {
+            position: s.position.to_array(),
+            orientation: quat_to_wxyz(body.orientation_user()),
+            velocity: s.velocity.to_array(),
+            angular_velocity: s.omega_world().to_array(),
+        }
+    }
+
+    /// The first quantity that is not finite, if any.
+    #[inline]
+    fn non_finite(&self) -> Option<&'static str> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(&self.position) {
+            Some("position")
+        } else if !finite(&self.orientation) {
+            Some("orientation")
+        } else if !finite(&self.velocity) {
+            Some("velocity")
+        } else if !finite(&self.angular_velocity) {
+            Some("angular velocity")
+        } else {
+            None
+        }
+    }
+}
+
+impl<W: Write> TrajectoryWriter<W> {
+    /// A writer for the bodies of `world`; for CSV the header is written (buffered) at once.
+    pub fn new(sink: W, format: Format, world: &World) -> Result<Self, TrajectoryError> {
+        let names = world
+            .bodies
+            .iter()
+            .map(|b| match format {
+                Format::Csv => csv_field(&b.name),
+                Format::JsonLines => serde_json::to_string(&b.name).expect("a string always serialises"),
+            })
+            .collect();
+        let mut writer = Self {
+            sink: BufWriter::with_capacity(BUFFER_CAPACITY, sink),
+            format,
+            names,
+            line: Vec::with_capacity(512),
+            samples: 0,
+        };
+        if format == Format::Csv {
+            writer.sink.write_all(CSV_HEADER.as_bytes())?;
+            writer.sink.write_all(b"\n")?;
+        }
+        Ok(writer)
+    }
+
+    /// The format being written.
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// Samples written so far.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Writes the state of every non-fixed body at `world.time()`.
+    ///
+    /// Every value is checked first: if one is not finite, nothing of the sample is written and
+    /// [`TrajectoryError::NonFinite`] names the body and the quantity.
+    pub fn write_sample(&mut self, world: &World) -> Result<(), TrajectoryError> {
+        if world.bodies.len() != self.names.len() {
+            return Err(TrajectoryError::BodiesChanged { expected: self.names.len(), got: world.bodies.len() });
+        }
+        let t = world.time();
+        for body in world.free_bodies() {
+            let problem = if t.is_finite() { Row::of(body).non_finite() } else { Some("time") };
+            if let Some(quantity) = problem {
+                return Err(TrajectoryError::NonFinite { body: body.name.clone(), quantity, time: t });
+            }
+        }
+        match self.format {
+            Format::Csv => self.write_csv(world, t)?,
+            Format::JsonLines => self.write_json(world, t)?,
+        }
+        self.samples += 1;
+        Ok(())
+    }
+
+    fn write_csv(&mut self, world: &World, t: f64) -> std::io::Result<()> {
+        for (body, name) in world.bodies.iter().zip(&self.names) {
+            if body.fixed {
+                continue;
+            }
+            let row = Row::of(body);
+            let line = &mut self.line;
+            line.clear();
+            push_f64(line, t);
+            line.push(b',');
+            line.extend_from_slice(name.as_bytes());
+            for values in [&row.position[..], &row.orientation, &row.velocity, &row.angular_velocity] {
+                for &x in values {
+                    line.push(b',');
+                    push_f64(line, x);
+                }
+            }
+            line.push(b'\n');
+            self.sink.write_all(line)?;
+        }
+        Ok(())
+    }
+
+    fn write_json(&mut self, world: &World, t: f64) -> std::io::Result<()> {
+        let line = &mut self.line;
+        line.clear();
+        line.extend_from_slice(b"{\"t\":");
+        push_f64(line, t);
+        line.extend_from_slice(b",\"bodies\":[");
+        self.sink.write_all(line)?;
+        let mut first = true;
+        for (body, name) in world.bodies.iter().zip(&self.names) {
+            if body.fixed {
+                continue;
+            }
+            let row = Row::of(body);
+            line.clear();
+            if !first {
+                line.push(b',');
+            }
+            first = false;
+            line.extend_from_slice(b"{\"name\":");
+            line.extend_from_slice(name.as_bytes());
+            push_array(line, b",\"position\":", &row.position);
+            push_array(line, b",\"orientation\":", &row.orientation);
+            push_array(line, b",\"velocity\":", &row.velocity);
+            push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
+            line.push(b'}');
+            self.sink.write_all(line)?;
+        }
+        self.sink.write_all(b"]}\n")
+    }
+
+    /// Writes out everything buffered so far (the file then ends with a whole row or line).
+    pub fn flush(&mut self) -> Result<(), TrajectoryError> {
+        self.sink.flush()?;
+        Ok(())
+    }
+
+    /// Flushes and returns the sink.
+    pub fn finish(mut self) -> Result<W, TrajectoryError> {
+        self.sink.flush()?;
+        self.sink.into_inner().map_err(|e| TrajectoryError::Io(e.into_error()))
+    }
+
+    /// The sink (what has been flushed to it so far).
+    pub fn get_ref(&self) -> &W {
+        self.sink.get_ref()
+    }
+}
+
+/// Appends the shortest text that reads back to the same `f64` (the value must be finite).
+#[inline]
+fn push_f64(line: &mut Vec<u8>, x: f64) {
+    let mut buffer = ryu::Buffer::new();
+    line.extend_from_slice(buffer.format_finite(x).as_bytes());
+}
+
+#[inline]
+fn push_array(line: &mut Vec<u8>, key: &[u8], values: &[f64]) {
+    line.extend_from_slice(key);
+    line.push(b'[');
+    for (i, &x) in values.iter().enumerate() {
+        if i > 0 {
+            line.push(b',');
+        }
+        push_f64(line, x);
+    }
+    line.push(b']');
+}
+
+/// A CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, quote, line break or
+/// leading/trailing space.
+fn csv_field(text: &str) -> String {
+    let needs_quotes = text.contains([',', '"', '\n', '\r']) || text.starts_with(' ') || text.ends_with(' ');
+    if needs_quotes {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
