@@ -1,1 +1,67 @@
+//! Unit tests of the integrators' building blocks (the whole integrators are tested against exact
+//! solutions in `tests/integrators.rs` and `tests/reference_solutions.rs`).
+
 use super::*;
+use crate::math::{quat_exp, DVec3};
+
+#[test]
+fn names_round_trip_and_unknown_names_are_rejected() {
+    for integrator in Integrator::ALL {
+        assert_eq!(integrator.name().parse::<Integrator>(), Ok(integrator));
+        assert_eq!(integrator.to_string(), integrator.name());
+    }
+    let err = "leapfrog".parse::<Integrator>().unwrap_err();
+    assert!(err.to_string().contains("leapfrog") && err.to_string().contains("splitting4"));
+}
+
+#[test]
+fn renormalize_squares_the_length_error() {
+    let q = quat_exp(DVec3::new(0.3, -1.2, 0.8));
+    for eps in [1e-3, 1e-5, 1e-7] {
+        let r = renormalize(q * (1.0 + eps));
+        // one Newton step of |q|² = 1: the error becomes ~ (3/2) eps²
+        assert!((r.length() - 1.0).abs() <= 2.0 * eps * eps + 4.0 * f64::EPSILON, "eps {eps:e}: {}", r.length());
+        // and the direction is untouched
+        assert!((r.normalize() - q).length() <= 4.0 * f64::EPSILON);
+    }
+    // far from unit length: exact normalisation
+    assert!((renormalize(q * 3.0).length() - 1.0).abs() <= 4.0 * f64::EPSILON);
+}
+
+#[test]
+fn implicit_gyroscopic_step_solves_its_equation_and_never_adds_energy() {
+    let inertia = DVec3::new(1.0, 2.0, 3.0);
+    for (omega, h) in
+        [(DVec3::new(1.0, 0.5, -0.8), 1e-3), (DVec3::new(0.01, 5.0, 0.01), 1e-2), (DVec3::new(3.0, -2.0, 1.0), 1e-2)]
+    {
+        let next = euler::implicit_gyroscopic(inertia, omega, h);
+        let residual = inertia * (next - omega) + h * next.cross(inertia * next);
+        let scale = h * (inertia * omega).length() * omega.length();
+        // two Newton steps: O(h⁴) residual, far below the O(h²) local error of the scheme
+        assert!(residual.length() <= 1e-4 * scale, "residual {residual:?} (scale {scale:e})");
+        let energy = |w: DVec3| w.dot(inertia * w);
+        assert!(energy(next) <= energy(omega), "T' = {} > T = {}", energy(next), energy(omega));
+        assert!((inertia * next).length() <= (inertia * omega).length());
+    }
+}
+
+#[test]
+fn free_rotation_keeps_world_angular_momentum() {
+    let inertia = DVec3::new(1.0, 2.0, 3.0);
+    let mut q = quat_exp(DVec3::new(0.2, 0.4, -0.3));
+    let mut l_body = inertia * DVec3::new(1.0, 0.5, -0.8);
+    let l_world = q * l_body;
+    for _ in 0..1000 {
+        splitting::free_rotation(inertia, &mut q, &mut l_body, 0.01);
+    }
+    assert!((q * l_body - l_world).length() <= 1e-13 * l_world.length());
+    assert!((q.length() - 1.0).abs() <= 1e-13);
+}
+
+#[test]
+fn yoshida_weights_cancel_the_third_order_error() {
+    use splitting::{YOSHIDA_W0, YOSHIDA_W1};
+    // consistency 2 w1 + w0 = 1 and the 3rd-order condition 2 w1³ + w0³ = 0
+    assert!((2.0 * YOSHIDA_W1 + YOSHIDA_W0 - 1.0).abs() <= 4.0 * f64::EPSILON);
+    assert!((2.0 * YOSHIDA_W1.powi(3) + YOSHIDA_W0.powi(3)).abs() <= 32.0 * f64::EPSILON);
+}
