@@ -4,7 +4,8 @@
 //! Landen transformation), §17.6 (arithmetic–geometric mean); R. Bulirsch, "Numerical calculation
 //! of elliptic integrals and elliptic functions", Numer. Math. 7 (1965) 78–90 (the `sncndn`
 //! algorithm, also in Press et al., *Numerical Recipes*, 3rd ed., §6.12); B. C. Carlson, "Numerical
-//! computation of real or complex elliptic integrals", Numer. Algorithms 10 (1995) 13–26 (`R_F`);
+//! computation of real or complex elliptic integrals", Numer. Algorithms 10 (1995) 13–26 (`R_F`,
+//! `R_C`, `R_J`);
 //! NIST DLMF §19.8 (AGM), §19.25 (`F` through `R_F`), §22 (Jacobi functions).
 //!
 //! Parameter convention: `m = k²` (the *parameter*, as in Abramowitz & Stegun and DLMF), and
@@ -16,6 +17,9 @@
 //!   `K → ln(4/sqrt(m1))` as `m1 → 0`. Quadratic convergence: about five AGM steps for `f64`.
 //! - `F(φ, m) = ∫₀^φ dθ / sqrt(1 − m sin²θ) = sin φ · R_F(cos²φ, 1 − m sin²φ, 1)` for `|φ| ≤ π/2`
 //!   (DLMF 19.25.5), and `F(φ + nπ) = F(φ) + 2nK` beyond.
+//! - `Π(n; φ | m) = ∫₀^φ dθ / ((1 − n sin²θ) sqrt(1 − m sin²θ))
+//!   = sin φ R_F(c², Δ², 1) + (n/3) sin³φ R_J(c², Δ², 1, 1 − n sin²φ)`, `c = cos φ`,
+//!   `Δ² = 1 − m sin²φ` (DLMF 19.25.14), for `n < 1`; `Π(φ + kπ) = Π(φ) + 2k Π(n | m)`.
 //! - `sn(u, m) = sin φ`, `cn(u, m) = cos φ`, `dn(u, m) = sqrt(1 − m sn²)` with `φ = am(u, m)` the
 //!   inverse of `u = F(φ, m)`; computed by the descending Landen (Gauss) transformation, which
 //!   shrinks `m` quadratically towards 0 where `sn = sin`, `cn = cos`, `dn = 1`, and climbs back up
@@ -96,6 +100,107 @@ pub fn carlson_rf(x: f64, y: f64, z: f64) -> f64 {
     let e3 = dx * dy * dz;
     // DLMF 19.36.1: R_F = A^(−1/2) (1 − E2/10 + E3/14 + E2²/24 − 3 E2 E3/44)
     (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / mean.sqrt()
+}
+
+/// Carlson's degenerate integral `R_C(x, y) = R_F(x, y, y)`, `x ≥ 0`, `y > 0` (Carlson 1995).
+pub fn carlson_rc(x: f64, y: f64) -> f64 {
+    const TOL: f64 = 0.0012;
+    let (mut x, mut y) = (x, y);
+    let mut iterations = 0;
+    loop {
+        let mean = (x + 2.0 * y) / 3.0;
+        let s = (y - mean) / mean;
+        if s.abs() <= TOL || iterations >= 100 {
+            // DLMF 19.36.8
+            return (1.0 + s * s * (0.3 + s * (1.0 / 7.0 + s * (0.375 + s * 9.0 / 22.0)))) / mean.sqrt();
+        }
+        let lambda = 2.0 * x.sqrt() * y.sqrt() + y;
+        x = 0.25 * (x + lambda);
+        y = 0.25 * (y + lambda);
+        iterations += 1;
+    }
+}
+
+/// Carlson's integral of the third kind
+/// `R_J(x, y, z, p) = (3/2) ∫₀^∞ dt / ((t + p) sqrt((t + x)(t + y)(t + z)))`, `x, y, z ≥ 0` (at most one
+/// zero), `p > 0`, by the duplication theorem (Carlson 1995).
+pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
+    const TOL: f64 = 0.0015;
+    let (mut x, mut y, mut z, mut p) = (x, y, z, p);
+    let (mut sum, mut factor) = (0.0, 1.0);
+    let mut iterations = 0;
+    let (mut mean, mut dx, mut dy, mut dz, mut dp);
+    loop {
+        let (sx, sy, sz) = (x.sqrt(), y.sqrt(), z.sqrt());
+        let lambda = sx * (sy + sz) + sy * sz;
+        let alpha = (p * (sx + sy + sz) + sx * sy * sz).powi(2);
+        let beta = p * (p + lambda).powi(2);
+        sum += factor * carlson_rc(alpha, beta);
+        factor *= 0.25;
+        x = 0.25 * (x + lambda);
+        y = 0.25 * (y + lambda);
+        z = 0.25 * (z + lambda);
+        p = 0.25 * (p + lambda);
+        mean = 0.2 * (x + y + z + 2.0 * p);
+        dx = (mean - x) / mean;
+        dy = (mean - y) / mean;
+        dz = (mean - z) / mean;
+        dp = (mean - p) / mean;
+        iterations += 1;
+        if dx.abs().max(dy.abs()).max(dz.abs()).max(dp.abs()) <= TOL || iterations >= 100 {
+            break;
+        }
+    }
+    let ea = dx * (dy + dz) + dy * dz;
+    let eb = dx * dy * dz;
+    let ec = dp * dp;
+    let ed = ea - 3.0 * ec;
+    let ee = eb + 2.0 * dp * (ea - ec);
+    const C1: f64 = 3.0 / 14.0;
+    const C2: f64 = 1.0 / 3.0;
+    const C3: f64 = 3.0 / 22.0;
+    const C4: f64 = 3.0 / 26.0;
+    const C5: f64 = 0.75 * C3;
+    const C6: f64 = 1.5 * C4;
+    const C7: f64 = 0.5 * C2;
+    const C8: f64 = C3 + C3;
+    let series = 1.0 + ed * (-C1 + C5 * ed - C6 * ee) + eb * (C7 + dp * (-C8 + dp * C4)) + dp * ea * (C2 - dp * C3)
+        - C2 * dp * ec;
+    3.0 * sum + factor * series / (mean * mean.sqrt())
+}
+
+/// The complete elliptic integral of the third kind `Π(n | m) = Π(n; π/2 | m)`, `n < 1`, with the
+/// complementary parameter `m1 = 1 − m`: `R_F(0, m1, 1) + (n/3) R_J(0, m1, 1, 1 − n)`.
+pub fn ellippi_complete_m1(n: f64, m1: f64) -> f64 {
+    if !(0.0..=1.0).contains(&m1) || n.is_nan() || n >= 1.0 {
+        return f64::NAN;
+    }
+    carlson_rf(0.0, m1, 1.0) + n / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0 - n)
+}
+
+/// `Π(n; φ | m)` for `|φ| ≤ π/2` from `s = sin φ`, `c = cos φ ≥ 0` and `Δ² = 1 − m s²` (given, so that
+/// the caller can pass `cn` and `dn²` of the same argument without losing digits).
+pub fn ellippi_sc(n: f64, s: f64, c: f64, delta2: f64) -> f64 {
+    let (s2, c2) = (s * s, c * c);
+    s * carlson_rf(c2, delta2, 1.0) + n / 3.0 * s * s2 * carlson_rj(c2, delta2, 1.0, 1.0 - n * s2)
+}
+
+/// The incomplete elliptic integral of the third kind `Π(n; φ | m)` for any real `φ` (rad), `n < 1`,
+/// `0 ≤ m ≤ 1` (characteristic `n` with the sign convention `1 − n sin²θ`, as in DLMF 19.2.7).
+pub fn ellippi(n: f64, phi: f64, m: f64) -> f64 {
+    let m1 = 1.0 - m;
+    if !(0.0..=1.0).contains(&m1) || !phi.is_finite() || n.is_nan() || n >= 1.0 {
+        return f64::NAN;
+    }
+    let k = (phi / PI).round();
+    let psi = phi - k * PI;
+    let (s, c) = psi.sin_cos();
+    let f = ellippi_sc(n, s, c, c * c + m1 * s * s);
+    if k == 0.0 {
+        f
+    } else {
+        f + 2.0 * k * ellippi_complete_m1(n, m1)
+    }
 }
 
 /// The incomplete elliptic integral of the first kind `F(φ, m)` for any real amplitude `φ` (rad),

@@ -22,7 +22,7 @@
 pub mod elliptic;
 pub mod torque_free;
 
-pub use elliptic::{ellipf, ellipf_m1, ellipk, ellipk_m1, jacobi, jacobi_m1, Jacobi};
+pub use elliptic::{ellipf, ellipf_m1, ellipk, ellipk_m1, ellippi, jacobi, jacobi_m1, Jacobi};
 pub use torque_free::{AsymmetricTop, Regime, SymmetricTop, TopError};
 
 #[cfg(test)]

@@ -308,3 +308,64 @@ fn symmetric_top_body_rate_and_world_orientation() {
 }
 
 use crate::math::DVec4;
+
+#[test]
+fn carlson_integrals_and_the_third_kind_match_mpmath() {
+    use super::elliptic::{carlson_rc, carlson_rj, ellippi_complete_m1};
+    assert_close(carlson_rc(1.0, 2.0), PI / 4.0, 2e-16, "R_C(1, 2) = π/4");
+    assert_close(carlson_rj(0.5, 1.0, 2.0, 3.0), 0.46698009947142691457, 2e-16, "R_J(0.5, 1, 2, 3)");
+    assert_close(ellippi(-3.0, 0.9, 0.7), 0.64069192082881642844, 4e-16, "Π(−3; 0.9 | 0.7)");
+    assert_close(ellippi(-0.5, 1.3, 0.999), 1.6088457950442870821, 1e-15, "Π(−0.5; 1.3 | 0.999)");
+    assert_close(ellippi_complete_m1(-3.0, 7.999904e-6), 2.267032073260015241, 1e-15, "Π(−3 | m1 = 7.999904e-6)");
+    // n = 0 is F; beyond π/2 the quasi-periodicity
+    assert_close(ellippi(0.0, 2.4, 0.6), ellipf(2.4, 0.6), 1e-15, "Π(0; φ | m) = F(φ | m)");
+    let h = 1e-5;
+    for phi in [-4.0, -1.0, 0.3, 1.5, 2.0, 7.0] {
+        let (n, m) = (-2.5, 0.8);
+        let d = (ellippi(n, phi + h, m) - ellippi(n, phi - h, m)) / (2.0 * h);
+        let s2 = f64::sin(phi).powi(2);
+        assert_close(d, 1.0 / ((1.0 - n * s2) * (1.0 - m * s2).sqrt()), 1e-9, "dΠ/dφ");
+    }
+}
+
+#[test]
+fn asymmetric_top_world_orientation_follows_the_kinematics() {
+    // q(0) = q0, q̇ = ½ q ⊗ (0, ω_body(t)) and L_world = R(t) I ω(t) constant, in both regimes
+    let mut rng = Rng(0x853c49e6748fea9b);
+    let h = 1e-5;
+    let mut regimes = [0, 0];
+    for case in 0..200 {
+        let i1 = rng.uniform(0.5, 2.0);
+        let i2 = i1 + rng.uniform(0.05, 1.5);
+        let i3 = i2 + rng.uniform(0.05, 1.5);
+        let inertia = DVec3::new(i1, i2, i3);
+        let w0 = match case {
+            0 => DVec3::new(0.01, 5.0, 0.01),
+            1 => DVec3::new(0.02, 5.0, -0.01),
+            _ => DVec3::new(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0)),
+        };
+        let inertia = if case < 2 { DVec3::new(1.0, 2.0, 3.0) } else { inertia };
+        let axis = DVec3::new(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)).normalize();
+        let q0 = DQuat::from_axis_angle(axis, rng.uniform(0.0, 3.0));
+        let top = AsymmetricTop::new(inertia, w0).unwrap().with_orientation(q0);
+        regimes[(top.regime() == Regime::AboutAxis1) as usize] += 1;
+        let q = top.orientation(0.0);
+        assert!((q - q0).length().min((q + q0).length()) < 1e-12, "q(0) = {q:?}, want {q0:?}");
+        let l_world = top.angular_momentum_world();
+        for k in 0..25 {
+            let t = 0.43 * k as f64;
+            let q = top.orientation(t);
+            let w = top.omega_body(t);
+            assert!((q * (inertia * w) - l_world).length() <= 1e-12 * l_world.length(), "L_world at t = {t}");
+            // the sign of q is continuous in t here: compare derivatives directly
+            let dq = (DVec4::from(top.orientation(t + h)) - DVec4::from(top.orientation(t - h))) / (2.0 * h);
+            let want = crate::math::quat_rate_body(q, w);
+            assert!((dq - want).length() < 1e-8 * (1.0 + w.length()), "case {case}, t = {t}: q̇ {dq:?} vs {want:?}");
+        }
+    }
+    assert!(regimes[0] > 20 && regimes[1] > 20, "both regimes sampled: {regimes:?}");
+    // steady rotations: q0 ⊗ exp(ω t)
+    let top = AsymmetricTop::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 0.0, 2.0)).unwrap();
+    assert_eq!(top.regime(), Regime::Steady);
+    assert!((top.orientation(1.0) - DQuat::from_rotation_z(2.0)).length() < 1e-15);
+}

@@ -36,8 +36,20 @@
 //!
 //! The period of `ω_body` is `4K(m)/λ`; `ω2` changes sign every half period, so a body spun near
 //! its intermediate axis flips every `2K(m)/λ` (the Dzhanibekov effect).
+//!
+//! ### World orientation of the asymmetric top
+//! Take a reference frame with `Z` along the constant `L_world` and Euler angles `(φ, θ, ψ)` (z-x-z,
+//! Landau §35): `world_from_body = A · R_z(φ) R_x(θ) R_z(ψ)` with `A` constant. The body components
+//! of `L` give two angles directly, `L_body = M (sin θ sin ψ, sin θ cos ψ, cos θ)`, and the third obeys
+//! `φ̇ = M (I1 ω1² + I2 ω2²)/(I1² ω1² + I2² ω2²)` (Landau §37). Since `I1² ω1² + I2² ω2² = M² − I3² ω3²`
+//! and `ω3² = A3² (1 − n0 sn² τ)` (`n0 = m` about axis 3, `n0 = 1` about axis 1), and the value of
+//! `M² − I3² ω3²` at `sn τ = 0` is `I1² A1²`,
+//! `φ̇ = M/I3 + M (I3 − I1)/(I1 I3) · 1/(1 − n sn² τ)` with `n = −n0 I3² A3² / (I1² A1²) ≤ 0`, so
+//! `φ(t) = M t / I3 + M (I3 − I1)/(I1 I3 λ) · (Π(n; am τ | m) − Π(n; am τ0 | m))`,
+//! with `Π` the incomplete elliptic integral of the third kind (Carlson's `R_J`), continued past
+//! `am τ = ±π/2` by `Π(φ + kπ) = Π(φ) + 2k Π(n | m)`. `A` is fixed by `q(0)`.
 
-use super::elliptic::{ellipf_m1, ellipk_m1, jacobi_m1};
+use super::elliptic::{ellipf_m1, ellipk_m1, ellippi_complete_m1, ellippi_sc, jacobi_m1};
 use crate::math::{quat_exp, DQuat, DVec3};
 
 /// Why a closed-form top could not be built.
@@ -143,6 +155,13 @@ pub struct AsymmetricTop {
     m1: f64,
     /// `τ0` (dimensionless).
     tau0: f64,
+    /// Orientation: `world_from_body(0)`, the constant `A` (world from the frame with `Z ∥ L`), the
+    /// characteristic `n`, the coefficient `M (I3 − I1)/(I1 I3 λ)` of `Π`, and `Π` at `τ0`.
+    orientation0: DQuat,
+    world_from_reference: DQuat,
+    characteristic: f64,
+    pi_coefficient: f64,
+    pi0: f64,
 }
 
 impl AsymmetricTop {
@@ -166,8 +185,15 @@ impl AsymmetricTop {
             m: 1.0,
             m1: 0.0,
             tau0: 0.0,
+            orientation0: DQuat::IDENTITY,
+            world_from_reference: DQuat::IDENTITY,
+            characteristic: 0.0,
+            pi_coefficient: 0.0,
+            pi0: 0.0,
         };
-        if w1 == 0.0 && w3 == 0.0 {
+        // ω along a principal axis (or zero): a steady rotation
+        let zeros = [w1, w2, w3].iter().filter(|w| **w == 0.0).count();
+        if zeros >= 2 {
             return Ok(steady);
         }
         let top = if d2 >= 0.0 {
@@ -188,6 +214,8 @@ impl AsymmetricTop {
                 m,
                 m1,
                 tau0,
+                characteristic: -m * (i3 * a3).powi(2) / (i1 * a1).powi(2),
+                ..steady
             }
         } else {
             let s = if w1 >= 0.0 { 1.0 } else { -1.0 };
@@ -207,9 +235,65 @@ impl AsymmetricTop {
                 m,
                 m1,
                 tau0,
+                characteristic: -(i3 * a3).powi(2) / (i1 * a1).powi(2),
+                ..steady
             }
         };
-        Ok(top)
+        let m_length = (inertia_body * omega_body0).length();
+        let pi_coefficient = m_length * (i3 - i1) / (i1 * i3 * top.lambda);
+        let top = Self { pi_coefficient, ..top };
+        let pi0 = top.pi_of_tau(top.tau0);
+        Ok(Self { pi0, ..top }.with_orientation(DQuat::IDENTITY))
+    }
+
+    /// The same top with the initial orientation `world_from_body(0) = orientation0` (unit quaternion);
+    /// [`AsymmetricTop::new`] starts from the identity.
+    pub fn with_orientation(self, orientation0: DQuat) -> Self {
+        let orientation0 = orientation0.normalize();
+        let mut top = Self { orientation0, ..self };
+        if top.regime != Regime::Steady {
+            top.world_from_reference = orientation0 * top.reference_from_body(0.0).conjugate();
+        }
+        top
+    }
+
+    /// `Π(n; am τ | m)`, continued over all `τ` by the quasi-periodicity.
+    fn pi_of_tau(&self, tau: f64) -> f64 {
+        let k = ellipk_m1(self.m1);
+        // τ = τr + 2jK with |τr| ≤ K, where cn τr ≥ 0 and am τr = atan2(sn, cn)
+        let j = if k.is_finite() { (tau / (2.0 * k)).round() } else { 0.0 };
+        let reduced = jacobi_m1(tau - 2.0 * j * k, self.m1);
+        let partial = ellippi_sc(self.characteristic, reduced.sn, reduced.cn, reduced.dn * reduced.dn);
+        if j == 0.0 {
+            partial
+        } else {
+            partial + 2.0 * j * ellippi_complete_m1(self.characteristic, self.m1)
+        }
+    }
+
+    /// `R_z(φ) R_x(θ) R_z(ψ)`: body to the frame with `Z ∥ L` whose `X` axis is at `φ = 0` at `t = 0`.
+    fn reference_from_body(&self, t: f64) -> DQuat {
+        let l_body = self.inertia_body * self.omega_body(t);
+        let theta = l_body.truncate().length().atan2(l_body.z);
+        let psi = l_body.x.atan2(l_body.y);
+        let m_length = (self.inertia_body * self.omega_body0).length();
+        let phi = m_length * t / self.inertia_body.z
+            + self.pi_coefficient * (self.pi_of_tau(self.lambda * t + self.tau0) - self.pi0);
+        DQuat::from_rotation_z(phi) * DQuat::from_rotation_x(theta) * DQuat::from_rotation_z(psi)
+    }
+
+    /// `world_from_body` at `t` (s), from the initial orientation given to
+    /// [`AsymmetricTop::with_orientation`] (identity by default).
+    pub fn orientation(&self, t: f64) -> DQuat {
+        match self.regime {
+            Regime::Steady => self.orientation0 * quat_exp(t * self.omega_body0),
+            _ => self.world_from_reference * self.reference_from_body(t),
+        }
+    }
+
+    /// The constant angular momentum, world frame (kg·m²/s).
+    pub fn angular_momentum_world(&self) -> DVec3 {
+        self.orientation0 * (self.inertia_body * self.omega_body0)
     }
 
     /// The principal moments (kg·m²).
