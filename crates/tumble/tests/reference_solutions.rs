@@ -15,19 +15,38 @@ use tumble::integrate::Tolerances;
 use tumble::math::DVec3;
 use tumble::{Integrator, World};
 
+/// Errors against the exact solution over a run of `duration` seconds.
+struct Errors {
+    /// The largest relative angular-velocity error, `|ω − ω_exact| / |ω(0)|`.
+    max_omega: f64,
+    /// The relative angular-velocity error at the end.
+    final_omega: f64,
+    /// The largest orientation error: the angle of `q_exact⁻¹ q` (rad).
+    max_orientation: f64,
+    /// The orientation error at the end (rad).
+    final_orientation: f64,
+}
+
+fn errors(world: &mut World, duration: f64) -> Errors {
+    let s0 = world.bodies[0].state;
+    let top = AsymmetricTop::new(INERTIA, s0.omega_body).unwrap().with_orientation(s0.orientation);
+    let scale = s0.omega_body.length();
+    let steps = (duration / world.config.dt).round() as u64;
+    let mut e = Errors { max_omega: 0.0, final_omega: 0.0, max_orientation: 0.0, final_orientation: 0.0 };
+    run(world, steps, |w| {
+        let s = &w.bodies[0].state;
+        e.final_omega = (s.omega_body - top.omega_body(w.time())).length() / scale;
+        e.final_orientation = rotation_angle_between(s.orientation, top.orientation(w.time()));
+        e.max_omega = e.max_omega.max(e.final_omega);
+        e.max_orientation = e.max_orientation.max(e.final_orientation);
+    });
+    e
+}
+
 /// The largest relative angular-velocity error over a run of `duration` seconds, and the error at the end.
 fn omega_errors(world: &mut World, duration: f64) -> (f64, f64) {
-    let omega0 = world.bodies[0].state.omega_body;
-    let top = AsymmetricTop::new(INERTIA, omega0).unwrap();
-    let scale = omega0.length();
-    let steps = (duration / world.config.dt).round() as u64;
-    let mut max_error: f64 = 0.0;
-    let mut last = 0.0;
-    run(world, steps, |w| {
-        last = (w.bodies[0].state.omega_body - top.omega_body(w.time())).length() / scale;
-        max_error = max_error.max(last);
-    });
-    (max_error, last)
+    let e = errors(world, duration);
+    (e.max_omega, e.final_omega)
 }
 
 #[test]
@@ -43,21 +62,25 @@ fn observed_order_on_a_tumbling_body() {
     let mut report = String::new();
     let mut failed = false;
     for (integrator, dt) in cases {
-        let errors: Vec<f64> = [dt, dt / 2.0, dt / 4.0]
+        let runs: Vec<Errors> = [dt, dt / 2.0, dt / 4.0]
             .iter()
             .map(|&h| {
                 let mut world = torque_free(integrator, h, TUMBLING);
-                omega_errors(&mut world, 4.0).1
+                errors(&mut world, 4.0)
             })
             .collect();
         let expected = integrator.order() as f64;
-        for pair in errors.windows(2) {
-            let p = observed_order(pair[0], pair[1]);
-            report += &format!(
-                "{integrator}: errors {:.3e} → {:.3e}, order {p:.3} (expected {expected})\n",
-                pair[0], pair[1]
-            );
-            failed |= (p - expected).abs() > 0.3;
+        for pair in runs.windows(2) {
+            for (what, coarse, fine) in [
+                ("ω", pair[0].final_omega, pair[1].final_omega),
+                ("orientation", pair[0].final_orientation, pair[1].final_orientation),
+            ] {
+                let p = observed_order(coarse, fine);
+                report += &format!(
+                    "{integrator}: {what} errors {coarse:.3e} → {fine:.3e}, order {p:.3} (expected {expected})\n"
+                );
+                failed |= (p - expected).abs() > 0.3;
+            }
         }
     }
     println!("{report}");
@@ -87,14 +110,24 @@ fn dopri5_error_scales_with_its_tolerance() {
 fn rk4_and_dopri5_follow_the_jacobi_solution_for_20_seconds() {
     // 1e-8 relative for rk4 at dt = 1e-3 and for dopri5 at rtol = 1e-10, atol = 1e-13 (dt = 0.5 s: the
     // tolerance chooses the steps), from a generic state and from both sides of the separatrix
+    // (and the orientation to 1e-8 rad)
     for omega0 in [TUMBLING, NEAR_AXIS2_ABOUT_3, NEAR_AXIS2_ABOUT_1] {
         let mut rk4 = torque_free(Integrator::Rk4, 1e-3, omega0);
-        let (rk4_error, _) = omega_errors(&mut rk4, 20.0);
-        assert!(rk4_error <= 1e-8, "rk4 from {omega0:?}: max relative ω error {rk4_error:.3e} over 20 s");
         let mut dopri5 = torque_free(Integrator::Dopri5, 0.5, omega0);
         dopri5.config.tolerances = Tolerances { rtol: 1e-10, atol: 1e-13 };
-        let (dopri5_error, _) = omega_errors(&mut dopri5, 20.0);
-        assert!(dopri5_error <= 1e-8, "dopri5 from {omega0:?}: max relative ω error {dopri5_error:.3e} over 20 s");
+        for (name, world) in [("rk4", &mut rk4), ("dopri5", &mut dopri5)] {
+            let e = errors(world, 20.0);
+            println!(
+                "{name} from {omega0:?}: max ω error {:.3e}, max orientation error {:.3e} rad",
+                e.max_omega, e.max_orientation
+            );
+            assert!(e.max_omega <= 1e-8, "{name} from {omega0:?}: max relative ω error {:.3e} over 20 s", e.max_omega);
+            assert!(
+                e.max_orientation <= 1e-8,
+                "{name} from {omega0:?}: max orientation error {:.3e} rad",
+                e.max_orientation
+            );
+        }
     }
 }
 
