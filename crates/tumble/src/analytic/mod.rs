@@ -1,13 +1,13 @@
 //! Exact reference solutions: what the integrators are measured against.
 //!
 //! - [`elliptic`]: the complete and incomplete elliptic integrals of the first kind, `K(m)` (by the
-//!   arithmetic–geometric mean) and `F(φ, m)` (by Carlson's `R_F`), and the Jacobi elliptic
+//!   arithmetic–geometric mean), `F(φ, m)` and `Π(n; φ | m)` (by Carlson's `R_F`, `R_J`), and the Jacobi elliptic
 //!   functions `sn, cn, dn(u, m)` (by the descending Landen transformation), each also in a form
 //!   that takes the complementary parameter `1 − m`, which stays accurate as `m → 1`.
 //! - [`torque_free`]: the torque-free rigid body in closed form, the symmetric top (body angular
-//!   velocity and world orientation) and the asymmetric top (body angular velocity from any initial
-//!   condition, both regimes `M² > 2E I2` and `M² < 2E I2`), and the intermediate-axis flip
-//!   interval `2K(m)/λ`.
+//!   velocity and world orientation) and the asymmetric top (three distinct moments in any order;
+//!   body angular velocity and world orientation from any initial condition, in both regimes
+//!   `M² > 2E I2` and `M² < 2E I2`), and the intermediate-axis flip interval `2K(m)/λ`.
 //!
 //! Units are SI; angular velocities are in the body (principal) frame, rad/s.
 //!

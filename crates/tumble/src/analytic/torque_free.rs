@@ -13,7 +13,7 @@
 //! `q(t) = exp(t |L|/I⊥ · L̂_world) ⊗ q(0) ⊗ exp(−Ω t e3)` (check: the body angular velocity is
 //! `|L|/I⊥ · L̂_body − Ω e3 = L_body/I⊥ + L3 (1/I3 − 1/I⊥) e3 = I⁻¹ L_body`).
 //!
-//! ## Asymmetric top (`I1 < I2 < I3`)
+//! ## Asymmetric top (`I1 < I2 < I3`; [`AsymmetricTop`] sorts any three distinct moments first)
 //! With the cancellation-free combinations
 //! `d1 = M² − 2E I1 = I2(I2 − I1) ω2² + I3(I3 − I1) ω3² ≥ 0`,
 //! `d3 = 2E I3 − M² = I1(I3 − I1) ω1² + I2(I3 − I2) ω2² ≥ 0`,
@@ -50,7 +50,7 @@
 //! `am τ = ±π/2` by `Π(φ + kπ) = Π(φ) + 2k Π(n | m)`. `A` is fixed by `q(0)`.
 
 use super::elliptic::{ellipf_m1, ellipk_m1, ellippi_complete_m1, ellippi_sc, jacobi_m1};
-use crate::math::{quat_exp, DQuat, DVec3};
+use crate::math::{quat_exp, DMat3, DQuat, DVec3};
 
 /// Why a closed-form top could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -58,9 +58,9 @@ pub enum TopError {
     /// A moment or an angular velocity component is not finite, or a moment is not positive.
     #[error("moments {moments:?} and angular velocity {omega:?} must be finite, moments > 0")]
     NonFinite { moments: [f64; 3], omega: [f64; 3] },
-    /// The asymmetric solution needs `I1 < I2 < I3` strictly.
-    #[error("asymmetric top needs I1 < I2 < I3 (got {moments:?})")]
-    NotAscending { moments: [f64; 3] },
+    /// The asymmetric solution needs three distinct moments (use [`SymmetricTop`] otherwise).
+    #[error("asymmetric top needs three distinct principal moments (got {moments:?})")]
+    EqualMoments { moments: [f64; 3] },
     /// The symmetric solution needs `I1 = I2` (to 1e-12 relative).
     #[error("symmetric top needs I1 = I2 (axis 3 is the symmetry axis; got {moments:?})")]
     NotSymmetric { moments: [f64; 3] },
@@ -140,9 +140,9 @@ pub enum Regime {
     Steady,
 }
 
-/// A torque-free asymmetric top, `I1 < I2 < I3`: `ω_body(t)` by Jacobi elliptic functions.
+/// The asymmetric top in a frame where `I1 < I2 < I3` (the formulas of the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AsymmetricTop {
+struct SortedTop {
     inertia_body: DVec3,
     omega_body0: DVec3,
     regime: Regime,
@@ -164,14 +164,11 @@ pub struct AsymmetricTop {
     pi0: f64,
 }
 
-impl AsymmetricTop {
-    /// From the principal moments `I1 < I2 < I3` (kg·m²) and the initial body angular velocity (rad/s).
-    pub fn new(inertia_body: DVec3, omega_body0: DVec3) -> Result<Self, TopError> {
-        check_finite(inertia_body, omega_body0)?;
+impl SortedTop {
+    /// From the principal moments `I1 < I2 < I3` (kg·m²) and the initial angular velocity (rad/s).
+    fn new(inertia_body: DVec3, omega_body0: DVec3) -> Self {
         let [i1, i2, i3] = inertia_body.to_array();
-        if !(i1 < i2 && i2 < i3) {
-            return Err(TopError::NotAscending { moments: [i1, i2, i3] });
-        }
+        debug_assert!(i1 < i2 && i2 < i3);
         let [w1, w2, w3] = omega_body0.to_array();
         let d1 = i2 * (i2 - i1) * w2 * w2 + i3 * (i3 - i1) * w3 * w3;
         let d3 = i1 * (i3 - i1) * w1 * w1 + i2 * (i3 - i2) * w2 * w2;
@@ -194,7 +191,7 @@ impl AsymmetricTop {
         // ω along a principal axis (or zero): a steady rotation
         let zeros = [w1, w2, w3].iter().filter(|w| **w == 0.0).count();
         if zeros >= 2 {
-            return Ok(steady);
+            return steady;
         }
         let top = if d2 >= 0.0 {
             let s = if w3 >= 0.0 { 1.0 } else { -1.0 };
@@ -243,12 +240,11 @@ impl AsymmetricTop {
         let pi_coefficient = m_length * (i3 - i1) / (i1 * i3 * top.lambda);
         let top = Self { pi_coefficient, ..top };
         let pi0 = top.pi_of_tau(top.tau0);
-        Ok(Self { pi0, ..top }.with_orientation(DQuat::IDENTITY))
+        Self { pi0, ..top }.with_orientation(DQuat::IDENTITY)
     }
 
-    /// The same top with the initial orientation `world_from_body(0) = orientation0` (unit quaternion);
-    /// [`AsymmetricTop::new`] starts from the identity.
-    pub fn with_orientation(self, orientation0: DQuat) -> Self {
+    /// The same top with the initial orientation `world_from_body(0) = orientation0` (unit quaternion).
+    fn with_orientation(self, orientation0: DQuat) -> Self {
         let orientation0 = orientation0.normalize();
         let mut top = Self { orientation0, ..self };
         if top.regime != Regime::Steady {
@@ -282,8 +278,7 @@ impl AsymmetricTop {
         DQuat::from_rotation_z(phi) * DQuat::from_rotation_x(theta) * DQuat::from_rotation_z(psi)
     }
 
-    /// `world_from_body` at `t` (s), from the initial orientation given to
-    /// [`AsymmetricTop::with_orientation`] (identity by default).
+    /// `world_from_body` at `t` (s).
     pub fn orientation(&self, t: f64) -> DQuat {
         match self.regime {
             Regime::Steady => self.orientation0 * quat_exp(t * self.omega_body0),
@@ -294,36 +289,6 @@ impl AsymmetricTop {
     /// The constant angular momentum, world frame (kg·m²/s).
     pub fn angular_momentum_world(&self) -> DVec3 {
         self.orientation0 * (self.inertia_body * self.omega_body0)
-    }
-
-    /// The principal moments (kg·m²).
-    pub fn inertia_body(&self) -> DVec3 {
-        self.inertia_body
-    }
-
-    /// Which axis `ω` circles.
-    pub fn regime(&self) -> Regime {
-        self.regime
-    }
-
-    /// The parameter `m = k²` of the Jacobi functions.
-    pub fn parameter(&self) -> f64 {
-        self.m
-    }
-
-    /// The complementary parameter `1 − m`, computed without cancellation.
-    pub fn complementary_parameter(&self) -> f64 {
-        self.m1
-    }
-
-    /// `λ` (1/s): `τ = λ t + τ0`.
-    pub fn lambda(&self) -> f64 {
-        self.lambda
-    }
-
-    /// `τ0`, the phase at `t = 0`.
-    pub fn tau0(&self) -> f64 {
-        self.tau0
     }
 
     /// Twice the kinetic energy, `2E = Σ I_i ω_i²` (J).
@@ -364,5 +329,125 @@ impl AsymmetricTop {
                 DVec3::new(a.x * j.dn, a.y * j.sn, a.z * j.cn)
             }
         }
+    }
+}
+
+/// A torque-free asymmetric top (three distinct principal moments): body angular velocity by Jacobi
+/// elliptic functions, world orientation through the elliptic integral of the third kind.
+///
+/// The moments may come in any order: the solution is computed in the frame of the sorted axes,
+/// reached from the body frame by a proper rotation that permutes the axes (with one sign change
+/// when the permutation is odd, so that Euler's equations keep their form). Everything this type
+/// returns is in the body frame given; "axis 1" and "axis 3" in [`Regime`] are the axes of the
+/// smallest and largest moments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AsymmetricTop {
+    inertia_body: DVec3,
+    sorted_from_body: DMat3,
+    sorted_from_body_q: DQuat,
+    sorted: SortedTop,
+}
+
+impl AsymmetricTop {
+    /// From three distinct principal moments (kg·m²) and the initial body angular velocity (rad/s), with
+    /// the identity as initial orientation (see [`AsymmetricTop::with_orientation`]).
+    pub fn new(inertia_body: DVec3, omega_body0: DVec3) -> Result<Self, TopError> {
+        check_finite(inertia_body, omega_body0)?;
+        let moments = inertia_body.to_array();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| moments[a].total_cmp(&moments[b]));
+        if moments[order[0]] == moments[order[1]] || moments[order[1]] == moments[order[2]] {
+            return Err(TopError::EqualMoments { moments });
+        }
+        // row k of sorted_from_body picks body axis order[k]; an odd permutation flips the last row
+        let odd = matches!(order, [0, 2, 1] | [1, 0, 2] | [2, 1, 0]);
+        let row = |k: usize, sign: f64| {
+            let mut v = DVec3::ZERO;
+            v[order[k]] = sign;
+            v
+        };
+        let sorted_from_body =
+            DMat3::from_cols(row(0, 1.0), row(1, 1.0), row(2, if odd { -1.0 } else { 1.0 })).transpose();
+        let sorted_inertia = DVec3::new(moments[order[0]], moments[order[1]], moments[order[2]]);
+        let sorted = SortedTop::new(sorted_inertia, sorted_from_body * omega_body0);
+        let sorted_from_body_q = DQuat::from_mat3(&sorted_from_body);
+        Ok(Self { inertia_body, sorted_from_body, sorted_from_body_q, sorted })
+    }
+
+    /// The same top with the initial orientation `world_from_body(0) = orientation0` (unit quaternion).
+    pub fn with_orientation(self, orientation0: DQuat) -> Self {
+        let world_from_sorted = orientation0.normalize() * self.sorted_from_body_q.conjugate();
+        Self { sorted: self.sorted.with_orientation(world_from_sorted), ..self }
+    }
+
+    /// The principal moments, in the order given (kg·m²).
+    pub fn inertia_body(&self) -> DVec3 {
+        self.inertia_body
+    }
+
+    /// The rotation from the body frame to the frame of sorted moments, `ω_sorted = S ω_body`.
+    pub fn sorted_from_body(&self) -> DMat3 {
+        self.sorted_from_body
+    }
+
+    /// Which axis `ω` circles (axes numbered by increasing moment).
+    pub fn regime(&self) -> Regime {
+        self.sorted.regime
+    }
+
+    /// The parameter `m = k²` of the Jacobi functions.
+    pub fn parameter(&self) -> f64 {
+        self.sorted.m
+    }
+
+    /// The complementary parameter `1 − m`, computed without cancellation.
+    pub fn complementary_parameter(&self) -> f64 {
+        self.sorted.m1
+    }
+
+    /// `λ` (1/s): `τ = λ t + τ0`.
+    pub fn lambda(&self) -> f64 {
+        self.sorted.lambda
+    }
+
+    /// `τ0`, the phase at `t = 0`.
+    pub fn tau0(&self) -> f64 {
+        self.sorted.tau0
+    }
+
+    /// Twice the kinetic energy, `2E = Σ I_i ω_i²` (J).
+    pub fn twice_energy(&self) -> f64 {
+        self.sorted.twice_energy()
+    }
+
+    /// `M² = |L|² = Σ I_i² ω_i²` ((kg·m²/s)²).
+    pub fn angular_momentum_squared(&self) -> f64 {
+        self.sorted.angular_momentum_squared()
+    }
+
+    /// The period of `ω_body`, `4K(m)/λ` (s); `+∞` for a steady rotation or on the separatrix.
+    pub fn period(&self) -> f64 {
+        self.sorted.period()
+    }
+
+    /// The time between two sign changes of the intermediate-axis component of `ω`, `2K(m)/λ` (s): the
+    /// flip interval of a body spun near its intermediate axis.
+    pub fn flip_interval(&self) -> f64 {
+        self.sorted.flip_interval()
+    }
+
+    /// The body angular velocity at `t` (s), rad/s.
+    pub fn omega_body(&self, t: f64) -> DVec3 {
+        self.sorted_from_body.transpose() * self.sorted.omega_body(t)
+    }
+
+    /// `world_from_body` at `t` (s).
+    pub fn orientation(&self, t: f64) -> DQuat {
+        self.sorted.orientation(t) * self.sorted_from_body_q
+    }
+
+    /// The constant angular momentum, world frame (kg·m²/s).
+    pub fn angular_momentum_world(&self) -> DVec3 {
+        self.sorted.angular_momentum_world()
     }
 }
