@@ -89,16 +89,13 @@ fn measure(integrator: Integrator, dt: f64, omega0: DVec3) -> Row {
 fn table(title: &str, omega0: DVec3, with_flip: bool) {
     println!("### {title}\n");
     let top = AsymmetricTop::new(INERTIA, omega0).expect("I1 < I2 < I3");
-    println!(
-        "`I = (1, 2, 3)` kg·m², `ω_body(0) = ({}, {}, {})` rad/s, {DURATION} s; `ω2` changes sign every `2K/λ` = {:.7} s.\n",
-        omega0.x,
-        omega0.y,
-        omega0.z,
-        top.flip_interval()
-    );
+    let (w, flip) = (omega0, top.flip_interval());
+    print!("`I = (1, 2, 3)` kg·m², `ω_body(0) = ({}, {}, {})` rad/s, {DURATION} s; ", w.x, w.y, w.z);
+    println!("`ω2` changes sign every `2K/λ` = {flip:.7} s.\n");
     let flip_head = if with_flip { " flip interval error |" } else { "" };
     let flip_rule = if with_flip { "---:|" } else { "" };
-    println!("| integrator | dt (s) | max \\|ΔE\\|/E | max \\|Δ\\|L\\|\\|/\\|L\\| | max \\|Δω\\|/\\|ω\\| | max ∠Δq (rad) |{flip_head} ns/step |");
+    let errors = r"max \|ΔE\|/E | max \|Δ\|L\|\|/\|L\| | max \|Δω\|/\|ω\| | max ∠Δq (rad)";
+    println!("| integrator | dt (s) | {errors} |{flip_head} ns/step |");
     println!("|---|---:|---:|---:|---:|---:|{flip_rule}---:|");
     for integrator in Integrator::ALL {
         for dt in [1e-2, 1e-3] {
