@@ -346,3 +346,27 @@ fn dopri5_agrees_with_fine_rk4_under_loads() {
     println!("dopri5 vs rk4 under loads: {d:.3e}");
     assert!(d <= 1e-8, "dopri5 vs rk4 under loads: distance {d:.3e}");
 }
+
+#[test]
+fn semi_implicit_euler_energy_never_increases_at_large_steps() {
+    // regression: with a rotation of several radians per step (h |ω| up to ~9), two Newton steps do not
+    // solve the implicit gyroscopic equation and the energy jumped (by 5 E0 in one step at
+    // ω = (10, 10, 10) rad/s, dt = 0.2 s); the property must hold at any step
+    for omega0 in [DVec3::new(10.0, 10.0, 10.0), DVec3::new(3.0, -4.0, 2.0), DVec3::new(1.0, 0.5, -0.8)] {
+        for dt in [0.05, 0.1, 0.2, 0.5] {
+            let mut world = torque_free(Integrator::SemiImplicitEuler, dt, omega0);
+            let e0 = world.energy();
+            let mut previous = e0;
+            let mut worst_increase: f64 = 0.0;
+            run(&mut world, 2000, |w| {
+                let e = w.energy();
+                worst_increase = worst_increase.max((e - previous) / e0);
+                previous = e;
+            });
+            assert!(
+                worst_increase <= 4.0 * f64::EPSILON,
+                "{omega0:?}, dt = {dt}: energy rose by {worst_increase:.3e} E0 in one step"
+            );
+        }
+    }
+}
