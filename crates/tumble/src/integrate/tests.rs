@@ -65,3 +65,68 @@ fn yoshida_weights_cancel_the_third_order_error() {
     assert!((2.0 * YOSHIDA_W1 + YOSHIDA_W0 - 1.0).abs() <= 4.0 * f64::EPSILON);
     assert!((2.0 * YOSHIDA_W1.powi(3) + YOSHIDA_W0.powi(3)).abs() <= 32.0 * f64::EPSILON);
 }
+
+/// A small deterministic generator (xorshift) for sampled checks.
+fn uniform(state: &mut u64, lo: f64, hi: f64) -> f64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    lo + (hi - lo) * ((*state >> 11) as f64 / (1u64 << 53) as f64)
+}
+
+#[test]
+fn implicit_gyroscopic_step_converges_at_several_radians_per_step() {
+    // regression: two plain Newton steps left the energy 5 E0 too high at h |ω| ≈ 3.5
+    let mut seed = 0x9e3779b97f4a7c15u64;
+    let mut worst_residual: f64 = 0.0;
+    for _ in 0..2000 {
+        let inertia =
+            DVec3::new(uniform(&mut seed, 0.5, 1.0), uniform(&mut seed, 1.0, 2.0), uniform(&mut seed, 2.0, 2.9));
+        let omega = DVec3::new(
+            uniform(&mut seed, -10.0, 10.0),
+            uniform(&mut seed, -10.0, 10.0),
+            uniform(&mut seed, -10.0, 10.0),
+        );
+        let h = uniform(&mut seed, 0.0, 1.0);
+        let next = euler::implicit_gyroscopic(inertia, omega, h);
+        let residual = inertia * (next - omega) + h * next.cross(inertia * next);
+        let momentum = (inertia * omega).length();
+        worst_residual = worst_residual.max(residual.length() / momentum);
+        // the continuation itself converges to round-off
+        let solved = euler::finish_implicit_gyroscopic(inertia, omega, h);
+        let solved_residual = inertia * (solved - omega) + h * solved.cross(inertia * solved);
+        assert!(solved_residual.length() <= 1e-12 * momentum, "continuation: residual {solved_residual:?}, h = {h}");
+        let energy = |w: DVec3| w.dot(inertia * w);
+        assert!(energy(next) <= energy(omega) * (1.0 + 4.0 * f64::EPSILON), "T rose: ω = {omega:?}, h = {h}");
+        assert!(
+            (inertia * next).length() <= momentum * (1.0 + 4.0 * f64::EPSILON),
+            "|L| rose by {:e}: ω = {omega:?}, h = {h}, residual {:e}",
+            (inertia * next).length() / momentum - 1.0,
+            residual.length() / momentum
+        );
+    }
+    println!("worst residual {worst_residual:e} |I ω|");
+    assert!(worst_residual <= 1e-3, "residual {worst_residual:e} |I ω|");
+}
+
+#[test]
+fn implicit_gyroscopic_step_is_the_two_newton_steps_at_ordinary_steps() {
+    // the fallback must not change anything where two Newton steps are enough (h |ω| ≤ 0.1)
+    let inertia = DVec3::new(1.0, 2.0, 3.0);
+    let mut seed = 0x2545f4914f6cdd1du64;
+    for _ in 0..1000 {
+        let omega =
+            DVec3::new(uniform(&mut seed, -5.0, 5.0), uniform(&mut seed, -5.0, 5.0), uniform(&mut seed, -5.0, 5.0));
+        let h = uniform(&mut seed, 0.0, 0.1 / omega.length());
+        let mut two_steps = omega;
+        for _ in 0..2 {
+            let l = inertia * two_steps;
+            let residual = inertia * (two_steps - omega) + h * two_steps.cross(l);
+            let jacobian = crate::math::DMat3::from_diagonal(inertia)
+                + h * (crate::math::skew(two_steps) * crate::math::DMat3::from_diagonal(inertia)
+                    - crate::math::skew(l));
+            two_steps -= jacobian.inverse() * residual;
+        }
+        assert_eq!(euler::implicit_gyroscopic(inertia, omega, h), two_steps);
+    }
+}
