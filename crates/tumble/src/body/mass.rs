@@ -71,7 +71,8 @@ impl MassProperties {
             let moments = DVec3::new(tensor_user.x_axis.x, tensor_user.y_axis.y, tensor_user.z_axis.z);
             return Self::from_principal(mass, moments);
         }
-        let symmetric = 0.5 * (tensor_user + tensor_user.transpose());
+        // the eigen-solver has absolute thresholds (1e-20): give it the tensor scaled to unit size
+        let symmetric = (0.5 / scale) * (tensor_user + tensor_user.transpose());
         let eigen = DSymmetricEigen3::new(symmetric);
         let mut axes = eigen.eigenvectors;
         // a proper rotation: det = +1
@@ -82,9 +83,12 @@ impl MassProperties {
         let x = axes.x_axis.normalize();
         let y = (axes.y_axis - x * x.dot(axes.y_axis)).normalize();
         let z = x.cross(y);
-        let user_from_body = DQuat::from_mat3(&DMat3::from_cols(x, y, z)).normalize();
-        check_principal_moments(eigen.eigenvalues)?;
-        Ok(Self { mass, inertia_body: eigen.eigenvalues, user_from_body })
+        // its closed-form cubic loses half the digits at a double root: polish with Jacobi rotations
+        let (moments, axes) = jacobi_polish(symmetric, DMat3::from_cols(x, y, z));
+        let moments = moments * scale;
+        let user_from_body = DQuat::from_mat3(&axes).normalize();
+        check_principal_moments(moments)?;
+        Ok(Self { mass, inertia_body: moments, user_from_body })
     }
 
     /// Inverse principal moments `I_body⁻¹` (1/(kg·m²)).
@@ -97,6 +101,52 @@ impl MassProperties {
     pub fn inertia_user(&self) -> DMat3 {
         crate::math::inertia_world(DMat3::from_quat(self.user_from_body), self.inertia_body)
     }
+}
+
+/// Diagonalises the symmetric `a` starting from the orthonormal, nearly diagonalising frame `p`
+/// (det +1): cyclic Jacobi rotations on `D = Pᵀ A P` until its off-diagonal entries are round-off.
+/// Returns the diagonal of `D` (eigenvalues) and the rotated frame `P` (eigenvectors as columns,
+/// still det +1), accurate to a few ε·‖A‖ even at repeated eigenvalues.
+///
+/// Reference: G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., §8.5 (the symmetric
+/// Schur decomposition and the cyclic Jacobi method).
+fn jacobi_polish(a: DMat3, p: DMat3) -> (DVec3, DMat3) {
+    let mut d = (p.transpose() * a * p).to_cols_array_2d();
+    let mut v = p.to_cols_array_2d(); // v[column][row]
+    for _sweep in 0..8 {
+        let off = d[1][0].abs() + d[2][0].abs() + d[2][1].abs();
+        let diag = d[0][0].abs() + d[1][1].abs() + d[2][2].abs();
+        if off <= 1e-18 * diag {
+            break;
+        }
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            if d[j][i] == 0.0 {
+                continue;
+            }
+            // the rotation in the (i, j) plane that zeroes d_ij: t = tan θ, the smaller root
+            let theta = (d[j][j] - d[i][i]) / (2.0 * d[j][i]);
+            let t = theta.signum() / (theta.abs() + theta.hypot(1.0));
+            let c = 1.0 / t.hypot(1.0);
+            let s = t * c;
+            // D ← Jᵀ D J, V ← V J
+            for k in 0..3 {
+                let (dki, dkj) = (d[i][k], d[j][k]);
+                d[i][k] = c * dki - s * dkj;
+                d[j][k] = s * dki + c * dkj;
+            }
+            for k in 0..3 {
+                let (dik, djk) = (d[k][i], d[k][j]);
+                d[k][i] = c * dik - s * djk;
+                d[k][j] = s * dik + c * djk;
+            }
+            for row in 0..3 {
+                let (vi, vj) = (v[i][row], v[j][row]);
+                v[i][row] = c * vi - s * vj;
+                v[j][row] = s * vi + c * vj;
+            }
+        }
+    }
+    (DVec3::new(d[0][0], d[1][1], d[2][2]), DMat3::from_cols_array_2d(&v))
 }
 
 fn check_mass(mass: f64) -> Result<(), MassError> {
