@@ -111,42 +111,37 @@ impl MassProperties {
 /// Reference: G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., §8.5 (the symmetric
 /// Schur decomposition and the cyclic Jacobi method).
 fn jacobi_polish(a: DMat3, p: DMat3) -> (DVec3, DMat3) {
-    let mut d = (p.transpose() * a * p).to_cols_array_2d();
-    let mut v = p.to_cols_array_2d(); // v[column][row]
+    let mut d = p.transpose() * a * p;
+    let mut v = p;
     for _sweep in 0..8 {
-        let off = d[1][0].abs() + d[2][0].abs() + d[2][1].abs();
-        let diag = d[0][0].abs() + d[1][1].abs() + d[2][2].abs();
+        let off = d.y_axis.x.abs() + d.z_axis.x.abs() + d.z_axis.y.abs();
+        let diag = d.x_axis.x.abs() + d.y_axis.y.abs() + d.z_axis.z.abs();
         if off <= 1e-18 * diag {
             break;
         }
         for (i, j) in [(0, 1), (0, 2), (1, 2)] {
-            if d[j][i] == 0.0 {
+            let d_ij = d.col(j)[i];
+            if d_ij == 0.0 {
                 continue;
             }
-            // the rotation in the (i, j) plane that zeroes d_ij: t = tan θ, the smaller root
-            let theta = (d[j][j] - d[i][i]) / (2.0 * d[j][i]);
+            // the rotation J in the (i, j) plane that zeroes d_ij: t = tan θ, the smaller root
+            let theta = (d.col(j)[j] - d.col(i)[i]) / (2.0 * d_ij);
             let t = theta.signum() / (theta.abs() + theta.hypot(1.0));
             let c = 1.0 / t.hypot(1.0);
             let s = t * c;
-            // D ← Jᵀ D J, V ← V J
-            for k in 0..3 {
-                let (dki, dkj) = (d[i][k], d[j][k]);
-                d[i][k] = c * dki - s * dkj;
-                d[j][k] = s * dki + c * dkj;
-            }
-            for k in 0..3 {
-                let (dik, djk) = (d[k][i], d[k][j]);
-                d[k][i] = c * dik - s * djk;
-                d[k][j] = s * dik + c * djk;
-            }
-            for row in 0..3 {
-                let (vi, vj) = (v[i][row], v[j][row]);
-                v[i][row] = c * vi - s * vj;
-                v[j][row] = s * vi + c * vj;
-            }
+            let mut rotation = DMat3::IDENTITY;
+            rotation.col_mut(i)[i] = c;
+            rotation.col_mut(i)[j] = -s;
+            rotation.col_mut(j)[i] = s;
+            rotation.col_mut(j)[j] = c;
+            // D ← Jᵀ D J (what is left at (i, j) is round-off), V ← V J
+            d = rotation.transpose() * d * rotation;
+            d.col_mut(j)[i] = 0.0;
+            d.col_mut(i)[j] = 0.0;
+            v *= rotation;
         }
     }
-    (DVec3::new(d[0][0], d[1][1], d[2][2]), DMat3::from_cols_array_2d(&v))
+    (DVec3::new(d.x_axis.x, d.y_axis.y, d.z_axis.z), v)
 }
 
 fn check_mass(mass: f64) -> Result<(), MassError> {

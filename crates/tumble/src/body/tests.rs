@@ -1,6 +1,9 @@
 //! The body's accessors: kinetic energy, angular momentum, world-frame inertia and angular velocity,
 //! and the user's axes, against hand computations and against each other.
 
+// the one tolerance helper of the unit tests (test modules are private to their parents, so it is
+// included by path rather than imported)
+#[allow(clippy::duplicate_mod)]
 #[path = "../math/tests/support.rs"]
 mod support;
 

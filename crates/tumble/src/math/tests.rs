@@ -206,7 +206,7 @@ proptest! {
         for f in &factors {
             q = renormalize(q * *f);
             assert_close("|q| after renormalize", q.length(), 1.0, 1e-15, 1.0);
-            r = r * rot(*f);
+            r *= rot(*f);
         }
         // the matrix product accumulates round-off like a random walk: ~ √n ε per entry
         assert_close("R(Π q) vs Π R(q)", rot(q), r, 1e-12, 1.0);

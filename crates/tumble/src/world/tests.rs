@@ -1,5 +1,8 @@
 //! The world step: momentum of free bodies, fixed bodies, time keeping, and divergence reports.
 
+// the one tolerance helper of the unit tests (test modules are private to their parents, so it is
+// included by path rather than imported)
+#[allow(clippy::duplicate_mod)]
 #[path = "../math/tests/support.rs"]
 mod support;
 

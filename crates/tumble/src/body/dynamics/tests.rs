@@ -1,6 +1,9 @@
 //! Newton–Euler: the body-frame and world-frame rotational equations agree, Euler's equations match
 //! their component form (3.6), and the resultant of the loads is what the hand says.
 
+// the one tolerance helper of the unit tests (test modules are private to their parents, so it is
+// included by path rather than imported)
+#[allow(clippy::duplicate_mod)]
 #[path = "../../math/tests/support.rs"]
 mod support;
 

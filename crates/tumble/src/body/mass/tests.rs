@@ -1,6 +1,9 @@
 //! Mass properties: the solid-shape formulas against hand values and an independent quadrature,
 //! the diagonalisation of full tensors, and every validation error.
 
+// the one tolerance helper of the unit tests (test modules are private to their parents, so it is
+// included by path rather than imported)
+#[allow(clippy::duplicate_mod)]
 #[path = "../../math/tests/support.rs"]
 mod support;
 
@@ -8,6 +11,9 @@ use super::*;
 use crate::math::{inertia_world, DVec4};
 use proptest::prelude::*;
 use support::{assert_close, assert_rel, principal_moments, unit_quat, EPS};
+
+/// A slice `[z0, z1]` (m) of a solid of revolution and its squared radius `a(z)²` (m²) there.
+type Piece<'a> = (f64, f64, &'a dyn Fn(f64) -> f64);
 
 /// Mass (kg) and principal moments (kg·m²) of a solid of revolution about body z, centred at the origin,
 /// by slicing it into discs: a disc of radius `a`, thickness `dz` at height `z` has mass `ρ π a² dz`,
@@ -17,7 +23,7 @@ use support::{assert_close, assert_rel, principal_moments, unit_quat, EPS};
 /// Each piece `[z0, z1]` on which `a(z)²` is a polynomial of degree ≤ 2 is integrated with 4-point
 /// Gauss–Legendre, exact for the integrands (polynomials of degree ≤ 4 in `z`), so the result is exact
 /// up to round-off — a check of the closed forms that shares no algebra with them.
-fn solid_of_revolution(rho: f64, pieces: &[(f64, f64, &dyn Fn(f64) -> f64)]) -> (f64, DVec3) {
+fn solid_of_revolution(rho: f64, pieces: &[Piece]) -> (f64, DVec3) {
     let nodes = [
         (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
         (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
