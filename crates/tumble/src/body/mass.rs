@@ -75,7 +75,8 @@ impl MassProperties {
             let moments = DVec3::new(tensor_user.x_axis.x, tensor_user.y_axis.y, tensor_user.z_axis.z);
             return Self::from_principal(mass, moments);
         }
-        let symmetric = 0.5 * (tensor_user + tensor_user.transpose());
+        // the eigen-solver has absolute thresholds (1e-20): give it the tensor scaled to unit size
+        let symmetric = (0.5 / scale) * (tensor_user + tensor_user.transpose());
         let eigen = DSymmetricEigen3::new(symmetric);
         let mut axes = eigen.eigenvectors;
         // a proper rotation: det = +1
@@ -86,9 +87,12 @@ impl MassProperties {
         let x = axes.x_axis.normalize();
         let y = (axes.y_axis - x * x.dot(axes.y_axis)).normalize();
         let z = x.cross(y);
-        let user_from_body = DQuat::from_mat3(&DMat3::from_cols(x, y, z)).normalize();
-        check_principal_moments(eigen.eigenvalues)?;
-        Ok(Self::new_unchecked(mass, eigen.eigenvalues, user_from_body))
+        // its closed-form cubic loses half the digits at a double root: polish with Jacobi rotations
+        let (moments, axes) = jacobi_polish(symmetric, DMat3::from_cols(x, y, z));
+        let moments = moments * scale;
+        let user_from_body = DQuat::from_mat3(&axes).normalize();
+        check_principal_moments(moments)?;
+        Ok(Self::new_unchecked(mass, moments, user_from_body))
     }
 
     fn new_unchecked(mass: f64, inertia_body: DVec3, user_from_body: DQuat) -> Self {
@@ -99,6 +103,47 @@ impl MassProperties {
     pub fn inertia_user(&self) -> DMat3 {
         crate::math::inertia_world(DMat3::from_quat(self.user_from_body), self.inertia_body)
     }
+}
+
+/// Diagonalises the symmetric `a` starting from the orthonormal, nearly diagonalising frame `p`
+/// (det +1): cyclic Jacobi rotations on `D = Pᵀ A P` until its off-diagonal entries are round-off.
+/// Returns the diagonal of `D` (eigenvalues) and the rotated frame `P` (eigenvectors as columns,
+/// still det +1), accurate to a few ε·‖A‖ even at repeated eigenvalues.
+///
+/// Reference: G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed., §8.5 (the symmetric
+/// Schur decomposition and the cyclic Jacobi method).
+fn jacobi_polish(a: DMat3, p: DMat3) -> (DVec3, DMat3) {
+    let mut d = p.transpose() * a * p;
+    let mut v = p;
+    for _sweep in 0..8 {
+        let off = d.y_axis.x.abs() + d.z_axis.x.abs() + d.z_axis.y.abs();
+        let diag = d.x_axis.x.abs() + d.y_axis.y.abs() + d.z_axis.z.abs();
+        if off <= 1e-18 * diag {
+            break;
+        }
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            let d_ij = d.col(j)[i];
+            if d_ij == 0.0 {
+                continue;
+            }
+            // the rotation J in the (i, j) plane that zeroes d_ij: t = tan θ, the smaller root
+            let theta = (d.col(j)[j] - d.col(i)[i]) / (2.0 * d_ij);
+            let t = theta.signum() / (theta.abs() + theta.hypot(1.0));
+            let c = 1.0 / t.hypot(1.0);
+            let s = t * c;
+            let mut rotation = DMat3::IDENTITY;
+            rotation.col_mut(i)[i] = c;
+            rotation.col_mut(i)[j] = -s;
+            rotation.col_mut(j)[i] = s;
+            rotation.col_mut(j)[j] = c;
+            // D ← Jᵀ D J (what is left at (i, j) is round-off), V ← V J
+            d = rotation.transpose() * d * rotation;
+            d.col_mut(j)[i] = 0.0;
+            d.col_mut(i)[j] = 0.0;
+            v *= rotation;
+        }
+    }
+    (DVec3::new(d.x_axis.x, d.y_axis.y, d.z_axis.z), v)
 }
 
 fn check_mass(mass: f64) -> Result<(), MassError> {
