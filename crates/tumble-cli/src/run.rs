@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use tumble::scene::{self, Scene};
 use tumble::trajectory::{Format, Monitor, StopReason, Summary, TrajectoryError, TrajectoryWriter};
 use tumble::world::Diverged;
-use tumble::{BodyState, World};
+use tumble::World;
 
 /// Default directory of trajectories when `--out` is not given.
 pub const DEFAULT_OUT_DIR: &str = "out";
@@ -159,13 +159,13 @@ pub struct Outcome {
 /// The simulation loop: writes the initial state, then steps `config.step_count()` times, writing
 /// and monitoring every `sample_every`-th step and the last one.
 ///
-/// - A step that diverges is undone (the states before it are kept in a buffer): the last finite
-///   state is written, and the loop stops with [`Stop::Diverged`].
+/// - A step that diverges is undone by [`World::step`]: the last finite state is written, and the
+///   loop stops with [`Stop::Diverged`].
 /// - When `stop` turns true (SIGINT/SIGTERM), or the ticker's wall-time limit is reached, the loop
 ///   ends after the current step, writing it.
 /// - The trajectory is flushed about every second, and at the end.
 ///
-/// Nothing is allocated per step: the state buffer is made once, the writer reuses its buffers.
+/// Nothing is allocated per step: the writer reuses its buffers.
 pub fn simulate<W: Write>(
     world: &mut World,
     writer: &mut TrajectoryWriter<W>,
@@ -178,16 +178,10 @@ pub fn simulate<W: Write>(
     writer.write_sample(world)?;
     let mut monitor = Monitor::new(world);
     let mut last_sampled = world.steps();
-    let mut before: Vec<BodyState> = world.bodies.iter().map(|b| b.state).collect();
     let mut end = Stop::Completed;
     while world.steps() < total {
-        for (saved, body) in before.iter_mut().zip(&world.bodies) {
-            *saved = body.state;
-        }
+        // a step that diverges leaves the world at the last finite state
         if let Err(diverged) = world.step() {
-            for (body, saved) in world.bodies.iter_mut().zip(&before) {
-                body.state = *saved;
-            }
             end = Stop::Diverged(diverged);
             break;
         }

@@ -1,6 +1,6 @@
 //! The world: bodies, configuration and the step.
 
-use crate::body::RigidBody;
+use crate::body::{BodyState, RigidBody};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
@@ -117,15 +117,22 @@ pub struct World {
     /// The bodies, in scene order.
     pub bodies: Vec<RigidBody>,
     steps: u64,
-    /// `dopri5`'s proposed internal step per body (s).
-    step_hints: Vec<f64>,
+    /// Per-body scratch of the step, in body order.
+    scratch: Vec<BodyScratch>,
+}
+
+/// What the step keeps per body: the state before the step (to undo a step that diverges) and
+/// `dopri5`'s proposed internal step (s).
+#[derive(Debug, Clone, Copy)]
+struct BodyScratch {
+    before: BodyState,
+    step_hint: f64,
 }
 
 impl World {
     /// A world with these settings and bodies, at `t = 0`.
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
-        let n = bodies.len();
-        Self { config, bodies, steps: 0, step_hints: vec![0.0; n] }
+        Self { config, bodies, steps: 0, scratch: Vec::new() }
     }
 
     /// Steps taken so far.
@@ -143,28 +150,55 @@ impl World {
     /// Advances the world by one step `dt`:
     /// 1. integrate every free body's Newton–Euler equations with the chosen integrator;
     /// 2. check that every state stayed finite and sane.
+    ///
+    /// A step that diverges is undone: on `Err` the world is exactly as it was before the call (the
+    /// last finite state), and the error names the body, the quantity, the step and the time.
     pub fn step(&mut self) -> Result<(), Diverged> {
-        if self.step_hints.len() != self.bodies.len() {
-            self.step_hints.resize(self.bodies.len(), 0.0);
+        if self.scratch.len() != self.bodies.len() {
+            self.scratch.resize(self.bodies.len(), BodyScratch { before: BodyState::REST, step_hint: 0.0 });
         }
         let config = self.config;
-        let time_after = (self.steps + 1) as f64 * config.dt;
-        for (body, hint) in self.bodies.iter_mut().zip(self.step_hints.iter_mut()) {
+        for (index, (body, scratch)) in self.bodies.iter_mut().zip(self.scratch.iter_mut()).enumerate() {
             if body.fixed {
                 continue;
             }
+            scratch.before = body.state;
             let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
-            let advanced = advance_body(config.integrator, config.tolerances, &rhs, &mut body.state, config.dt, hint);
+            let advanced = advance_body(
+                config.integrator,
+                config.tolerances,
+                &rhs,
+                &mut body.state,
+                config.dt,
+                &mut scratch.step_hint,
+            );
             let problem = match advanced {
                 Err(e) => Some(format!("the adaptive integrator failed: {e}")),
                 Ok(()) => check_state(body),
             };
             if let Some(quantity) = problem {
-                return Err(Diverged { body: body.name.clone(), quantity, step: self.steps + 1, time: time_after });
+                let diverged = Diverged {
+                    body: body.name.clone(),
+                    quantity,
+                    step: self.steps + 1,
+                    time: (self.steps + 1) as f64 * config.dt,
+                };
+                self.undo(index);
+                return Err(diverged);
             }
         }
         self.steps += 1;
         Ok(())
+    }
+
+    /// Restores the states of bodies `0..=last` from before the current step.
+    #[cold]
+    fn undo(&mut self, last: usize) {
+        for (body, scratch) in self.bodies.iter_mut().zip(&self.scratch).take(last + 1) {
+            if !body.fixed {
+                body.state = scratch.before;
+            }
+        }
     }
 
     /// Total mechanical energy, kinetic plus gravitational potential, of the free bodies (J).

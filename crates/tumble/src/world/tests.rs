@@ -110,6 +110,9 @@ fn nan_state_is_reported_not_panicked() {
             err.quantity
         );
         assert_eq!(w.steps(), 0, "{integrator}: a failed step is not counted");
+        // the failed step is undone for every body, the ones stepped before the broken one included
+        assert_eq!(w.bodies[0].state, tumbling_body("fine").state, "{integrator}: the body before was not restored");
+        assert!(w.bodies[1].state.omega_body.y.is_nan() && w.bodies[1].state.position == DVec3::ZERO);
         let message = err.to_string();
         assert!(message.contains("`broken`") && message.contains("step 1"), "{message}");
     }
@@ -139,7 +142,8 @@ fn runaway_spin_is_reported_at_the_right_step() {
         assert_eq!(err.time, 9537.0 * 2f64.powi(-10));
         assert!(err.quantity.starts_with("|angular velocity|"), "{integrator}: {}", err.quantity);
         assert_eq!(w.steps(), 9536);
-        // the state left behind is the last one stepped into (still finite)
+        // the state left behind is the last finite one: step 9536, |ω| = 9536 · 2²⁰ rad/s exactly
         assert!(w.bodies[0].state.is_finite());
+        assert_eq!(w.bodies[0].state.omega_body.length(), 9536.0 * 2f64.powi(20), "{integrator}");
     }
 }
