@@ -1,12 +1,13 @@
 //! Body-steps per second of `World::step` on N free tumbling bodies under gravity (default 10,000),
 //! per integrator, best of five rounds, no output.
-//! `cargo run --release -p tumble --example many -- [N]`
+//! `cargo run --release -p tumble --example many -- [N] [INTEGRATOR]`
 use tumble::math::{DQuat, DVec3};
 use tumble::*;
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(10_000);
     let steps = 2_000_000 / n;
-    for integ in Integrator::ALL {
+    let only: Option<Integrator> = std::env::args().nth(2).map(|s| s.parse().expect("an integrator name"));
+    for integ in Integrator::ALL.into_iter().filter(|i| only.is_none_or(|o| o == *i)) {
         let mut bodies = Vec::with_capacity(n);
         for i in 0..n {
             let f = i as f64 / n as f64;
