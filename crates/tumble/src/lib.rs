@@ -24,3 +24,8 @@ pub mod world;
 pub use body::{BodyState, MassProperties, RigidBody};
 pub use integrate::Integrator;
 pub use world::{World, WorldConfig};
+
+// the README's example is compiled and run as a doctest
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
