@@ -523,3 +523,7 @@ impl Trajectory {
         (first, last)
     }
 }
+
+#[cfg(test)]
+#[path = "read_tests.rs"]
+mod tests;
