@@ -163,6 +163,13 @@ pub fn after_run(args: &RunArgs, world: &World, origin: &str, out: &Path) -> Res
         let page = crate::view::page(&trajectory, world, origin, out).map_err(Failure::output)?;
         write_output(view, page.as_bytes())?;
     }
+    if args.scene.is_none() && args.view.is_none() && !args.quiet {
+        // the demo says how to watch it
+        let hint = "  watch it: tumble run --view demo.html, then open demo.html in a browser (docs/viewing.md)\n";
+        crate::report::Stdout::default()
+            .write(hint)
+            .map_err(|e| Failure::output(format!("cannot write to standard output: {e}")))?;
+    }
     Ok(())
 }
 

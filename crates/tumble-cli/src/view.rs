@@ -114,7 +114,7 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     let _ = write!(out, "\"truncated\":{},", truncated.as_deref().map_or("null".into(), json_string));
     let decimation = (trajectory.stride > 1).then(|| {
         format!(
-            "{} of {} frames shown (every {}th)",
+            "{} of {} frames shown (one in {})",
             trajectory.frames.len(),
             trajectory.frames_in_file,
             trajectory.stride
