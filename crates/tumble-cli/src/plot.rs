@@ -173,11 +173,14 @@ pub fn after_run(args: &RunArgs, world: &World, origin: &str, out: &Path) -> Res
     Ok(())
 }
 
+/// A named line of `(t, value)` points, in a colour.
+type Series = (String, RGBColor, Vec<(f64, f64)>);
+
 /// One panel: a title, the y axis label, and named series of `(t, value)`.
 struct Panel {
     title: String,
     y_label: String,
-    series: Vec<(String, RGBColor, Vec<(f64, f64)>)>,
+    series: Vec<Series>,
     /// Tick labels in scientific notation (errors).
     scientific: bool,
 }
@@ -393,7 +396,8 @@ pub fn short(x: f64) -> String {
 fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) =
         values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    if !(lo <= hi) {
+    if lo > hi {
+        // no finite value at all
         return (0.0, 1.0);
     }
     let span = hi - lo;

@@ -4,7 +4,7 @@
 //! - [`Monitor`]: the invariants of a run (energy, linear and angular momentum) and the flips of
 //!   bodies turning about their intermediate principal axis, observed at every sample.
 //! - [`Summary`]: what a run did, serialised as the summary JSON of the contract.
-//! - [`read`]: trajectories read back into frames, with precise errors; [`derived`]: the invariants
+//! - [`read`](mod@read): trajectories read back into frames, with precise errors; [`derived`]: the invariants
 //!   and body-frame angular velocity of the frames read back (for plots and the replay).
 //!
 //! Everything written is in the world frame and SI units: position of the centre of mass (m),

@@ -430,7 +430,8 @@ fn number(text: &str, field: &str, origin: &str, line: usize) -> Result<f64, Rea
 /// A unit quaternion from `[w, x, y, z]`; a zero one is an error.
 fn orientation(wxyz: [f64; 4], origin: &str, line: usize) -> Result<DQuat, ReadError> {
     let norm = wxyz.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if !(norm > 1e-6) {
+    // also catches NaN, which a file cannot hold but a reader may be handed
+    if norm.is_nan() || norm <= 1e-6 {
         let got = format!("{wxyz:?}");
         return Err(bad(origin, line, "orientation", "not a rotation (zero quaternion)", &got));
     }
