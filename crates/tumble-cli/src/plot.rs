@@ -24,6 +24,8 @@ use tumble::World;
 
 /// Bodies plotted when `--bodies` is not given (the first ones of the trajectory).
 pub const DEFAULT_MAX_BODIES: usize = 4;
+/// Most bodies in one figure (`--bodies`): two panels each.
+pub const MAX_BODIES: usize = 16;
 /// Frames kept for a plot: far more than the pixels of a panel's width (see `ReadOptions`).
 pub const PLOT_MAX_FRAMES: usize = 5000;
 /// Width of the figure (pixels).
@@ -113,6 +115,12 @@ pub fn choose_bodies(trajectory: &Trajectory, names: Option<&[String]>, path: &P
     if chosen.is_empty() {
         return Err(Failure::bad_input("--bodies: no body named"));
     }
+    if chosen.len() > MAX_BODIES {
+        return Err(Failure::bad_input(format!(
+            "--bodies: {} bodies named; one figure shows at most {MAX_BODIES}",
+            chosen.len()
+        )));
+    }
     Ok(chosen)
 }
 
@@ -197,7 +205,9 @@ fn panels(
     chosen: &[usize],
 ) -> Result<Vec<Panel>, String> {
     let times: Vec<f64> = trajectory.frames.iter().map(|f| f.t).collect();
-    let series = |values: Vec<f64>| times.iter().copied().zip(values).collect::<Vec<_>>();
+    // a value that overflowed (an energy of 1e300 m/s squared) is left out, not drawn at the edge
+    let series =
+        |values: Vec<f64>| times.iter().copied().zip(values).filter(|(_, v)| v.is_finite()).collect::<Vec<_>>();
     let mut panels = Vec::new();
     if let Some((world, origin)) = world {
         let invariants =
@@ -400,6 +410,9 @@ fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
         // no finite value at all
         return (0.0, 1.0);
     }
+    // keep the range and its padding finite, whatever the values
+    let limit = f64::MAX / 8.0;
+    (lo, hi) = (lo.clamp(-limit, limit), hi.clamp(-limit, limit));
     let span = hi - lo;
     let scale = lo.abs().max(hi.abs());
     if span <= scale * 1e-12 || span == 0.0 {

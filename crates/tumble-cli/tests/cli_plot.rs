@@ -118,6 +118,9 @@ fn bad_arguments_are_bad_input() {
         .assert()
         .code(2)
         .stderr(contains("`nobody` is not a body of"));
+    let many: Vec<String> = (0..17).map(|_| "flipper".to_string()).collect();
+    tumble(dir.path()).args(["plot", csv, "--out", "p.svg", "--bodies", &many.join(",")]).assert().success();
+    fs::remove_file(dir.path().join("p.svg")).unwrap();
     tumble(dir.path()).args(["plot", "missing.csv", "--out", "p.svg"]).assert().code(2).stderr(contains("missing.csv"));
     tumble(dir.path()).args(["plot", csv, "--out", "no/such/dir/p.svg"]).assert().code(4);
     assert!(!dir.path().join("p.svg").exists() && !dir.path().join("p.pdf").exists());
@@ -154,4 +157,24 @@ fn run_plots_right_after_the_run() {
         .code(2)
         .stderr(contains("--plot d.txt"));
     assert_eq!(fs::read_dir(fresh.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn extreme_values_are_plotted_without_failing() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = [
+        "0,a,1e300,-1e300,0,1,0,0,0,1e200,0,0,0,0,0",
+        "1e-300,a,-1.7976931348623157e308,0,5e-324,0,0,0,1,0,-1e200,0,1e300,0,0",
+        "2e-300,a,0,0,0,0.5,0.5,0.5,0.5,0,0,0,0,0,0",
+    ];
+    fs::write(dir.path().join("x.csv"), format!("{}\n{}\n", common::HEADER, rows.join("\n"))).unwrap();
+    fs::write(
+        dir.path().join("x.toml"),
+        "version = 1\n[[body]]\nname = \"a\"\nmass = 1e-3\ninertia = [1e-3, 1e-3, 1e-3]\n",
+    )
+    .unwrap();
+    for out in ["x.svg", "x.png"] {
+        tumble(dir.path()).args(["plot", "x.csv", "--scene", "x.toml", "--out", out]).assert().success();
+        assert!(fs::metadata(dir.path().join(out)).unwrap().len() > 1000);
+    }
 }

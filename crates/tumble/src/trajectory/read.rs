@@ -100,7 +100,7 @@ pub enum ReadError {
     #[error("{path}: no complete sample{}", .truncated.as_ref().map(|t| format!(" (line {} is {})", t.line, t.what)).unwrap_or_default())]
     NoSamples { path: String, truncated: Option<Truncation> },
     /// The CSV header lacks columns of the contract.
-    #[error("{path}:1: missing column{} {}; the header must name {CSV_HEADER}", if .missing.len() > 1 { "s" } else { "" }, quoted(.missing))]
+    #[error("{path}:1: missing column{} {}; the header must name {CSV_HEADER}", if .missing.len() > 1 { "s" } else { "" }, .missing.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", "))]
     MissingColumns { path: String, missing: Vec<String> },
     /// A JSON Lines object lacks a field.
     #[error("{path}:{line}: missing field `{field}`")]
