@@ -86,6 +86,16 @@ density = 1000.0
 shape = { type = "sphere", radius = 0.2 }
 position = [0.0, 0.0, 3.0]
 [[body]]
+name = "pill"
+density = 500.0
+shape = { type = "capsule", radius = 0.1, half_height = 0.3 }
+position = [2.0, 0.0, 3.0]
+[[body]]
+name = "can"
+density = 500.0
+shape = { type = "cylinder", radius = 0.25, half_height = 0.1 }
+position = [3.0, 0.0, 3.0]
+[[body]]
 name = "arm/link1 </script>"
 mass = 3.0
 inertia = [0.5, 1.0, 1.25]
@@ -103,12 +113,24 @@ fn shapes_fixed_bodies_and_inertia_boxes() {
     let data = data_of(&html);
     let bodies = data["bodies"].as_array().unwrap();
     let names: Vec<&str> = bodies.iter().map(|b| b["name"].as_str().unwrap()).collect();
-    assert_eq!(names, ["floor", "ball", "arm/link1 </script>"], "a fixed body without a shape is not drawn");
+    assert_eq!(
+        names,
+        ["floor", "ball", "pill", "can", "arm/link1 </script>"],
+        "a fixed body without a shape is not drawn"
+    );
     assert_eq!(bodies[0]["index"], Value::Null);
     assert_eq!(bodies[0]["parts"][0]["geometry"]["type"], "plane");
     assert_eq!(bodies[1]["parts"][0]["geometry"], serde_json::json!({"type": "sphere", "radius": 0.2}));
+    assert_eq!(
+        bodies[2]["parts"][0]["geometry"],
+        serde_json::json!({"type": "capsule", "radius": 0.1, "half_height": 0.3})
+    );
+    assert_eq!(
+        bodies[3]["parts"][0]["geometry"],
+        serde_json::json!({"type": "cylinder", "radius": 0.25, "half_height": 0.1})
+    );
     // moments 0.5, 1, 1.25 kg·m² of 3 kg: h1² = 3 (1 + 1.25 − 0.5) / 6, ...
-    let arm = &bodies[2];
+    let arm = &bodies[4];
     assert_eq!(arm["inertia_box"], true);
     let h: Vec<f64> =
         arm["parts"][0]["geometry"]["half_extents"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
@@ -116,7 +138,7 @@ fn shapes_fixed_bodies_and_inertia_boxes() {
     for (got, want) in h.iter().zip(expected) {
         assert!((got - want).abs() < 1e-6, "{h:?}");
     }
-    assert_eq!(arm["index"], 1);
+    assert_eq!(arm["index"], 3);
 }
 
 #[test]
@@ -156,7 +178,7 @@ fn bad_input_is_exit_2_naming_what_is_wrong() {
     fs::write(dir.path().join("s.toml"), SHAPES).unwrap();
     view(dir.path(), &["d.csv", "--scene", "s.toml", "--out", "x.html"])
         .code(2)
-        .stderr(contains("`flipper`, `stable`").and(contains("`ball`, `arm/link1 </script>`")));
+        .stderr(contains("`flipper`, `stable`").and(contains("`ball`, `pill`, `can`, `arm/link1 </script>`")));
     fs::write(dir.path().join("cols.csv"), "t,body,x,y,z,vx,vy,vz,wx,wy,wz\n").unwrap();
     view(dir.path(), &["cols.csv", "--scene", scene, "--out", "x.html"])
         .code(2)
