@@ -4,6 +4,7 @@
 //! - the page's script ran to the end (the DOM says `data-ready="1"`, no `data-error`);
 //! - screenshots at two times (the `#t=` fragment): the bodies are drawn (the middle of the scene is
 //!   not the background colour) and they moved (the two pictures differ there);
+//! - a trajectory cut short is replayed as far as it goes, with a note;
 //! - the page asks for no resource: the browser is given a proxy (a listener in this test) that sees
 //!   every request for the network; no request is the page's. Chromium's own housekeeping requests
 //!   (its update and time services, on Google's domains) are told apart by host. A control page with
@@ -180,6 +181,21 @@ fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
     let moved = middle(&early).zip(middle(&late)).filter(|&(a, b)| differs(a, b, 30)).count();
     eprintln!("{moved} of {total} pixels changed between t = 0.5 s and t = 2 s");
     assert!(moved * 50 > total, "only {moved} of {total} pixels changed between t = 0.5 s and t = 2 s");
+
+    // a trajectory cut short: the page shows what is there, and says so
+    let text = std::fs::read_to_string(dir.path().join("demo.csv")).unwrap();
+    std::fs::write(dir.path().join("cut.csv"), &text[..text.len() / 2]).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/demo.toml");
+    tumble(dir.path())
+        .args(["view", "cut.csv", "--scene", scene.to_str().unwrap(), "--out", "cut.html"])
+        .assert()
+        .success();
+    let mut dom = browser(&binary, dir.path(), "cut", &proxy);
+    dom.arg("--dump-dom").arg(format!("file://{}", dir.path().join("cut.html").display()));
+    let dom = String::from_utf8_lossy(&run(dom, "cut").stdout).into_owned();
+    assert!(dom.contains("data-ready=\"1\"") && !dom.contains("data-error"), "the cut replay did not set up");
+    // the note element, not only the data (which holds the same words)
+    assert!(dom.contains("id=\"note\">the trajectory ends early"), "no note that the trajectory was cut short");
 
     // nothing asked of the network by the page
     assert_eq!(proxy.page_requests(), Vec::<String>::new(), "the replay made network requests");
