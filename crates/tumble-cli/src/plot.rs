@@ -145,6 +145,16 @@ pub fn check_run(args: &RunArgs, out: &Path) -> Result<(), Failure> {
     if let Some(view) = &args.view {
         crate::view::check_out(view, "--view")?;
     }
+    for (flag, path) in [("--plot", &args.plot), ("--view", &args.view)] {
+        let Some(path) = path else { continue };
+        let taken = [Some(out), args.summary.as_deref(), args.scene.as_deref()];
+        if taken.into_iter().flatten().any(|other| crate::output::same_file(path, other)) {
+            return Err(Failure::bad_input(format!(
+                "{flag} {}: the same file as the trajectory, the summary or the scene",
+                path.display()
+            )));
+        }
+    }
     let special = std::fs::metadata(out).is_ok_and(|m| !m.is_file());
     if (args.plot.is_some() || args.view.is_some()) && special {
         return Err(Failure::bad_input(format!(

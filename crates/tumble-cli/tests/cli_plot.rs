@@ -157,6 +157,12 @@ fn run_plots_right_after_the_run() {
         .code(2)
         .stderr(contains("--plot d.txt"));
     assert_eq!(fs::read_dir(fresh.path()).unwrap().count(), 0);
+    tumble(fresh.path())
+        .args(["run", "--duration", "1", "--out", "d.csv", "--summary", "d.svg", "--plot", "d.svg"])
+        .assert()
+        .code(2)
+        .stderr(contains("--plot d.svg: the same file as the trajectory, the summary or the scene"));
+    assert_eq!(fs::read_dir(fresh.path()).unwrap().count(), 0);
 }
 
 #[test]
