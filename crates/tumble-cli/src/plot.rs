@@ -64,6 +64,13 @@ pub fn plot(args: &PlotArgs) -> Result<Status, Failure> {
     let trajectory = read_trajectory(&args.trajectory, PLOT_MAX_FRAMES, Failure::bad_input)?;
     let names = args.bodies.as_deref().map(|b| b.split(',').map(|s| s.trim().to_string()).collect::<Vec<_>>());
     let chosen = choose_bodies(&trajectory, names.as_deref(), &args.trajectory)?;
+    if chosen.len() < trajectory.bodies.len() && names.is_none() {
+        let (shown, all) = (chosen.len(), trajectory.bodies.len());
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "note: plotting the first {shown} of {all} bodies; choose with --bodies"
+        );
+    }
     if let Some(note) = truncation_note(&trajectory) {
         let _ = writeln!(std::io::stderr().lock(), "warning: {}: {note}", args.trajectory.display());
     }

@@ -17,11 +17,12 @@ mod common;
 
 use assert_cmd::prelude::*;
 use common::tumble;
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 /// The background colour of the scene (`gl.clearColor(0.114, 0.129, 0.149)`), sRGB 0..255.
 const BACKGROUND: [u8; 3] = [29, 33, 38];
@@ -61,7 +62,7 @@ impl Proxy {
         std::thread::spawn(move || {
             for stream in listener.incoming().flatten() {
                 let mut line = String::new();
-                let _ = stream.set_read_timeout(Some(std::time::Duration::from_secs(2)));
+                let _ = stream.set_read_timeout(Some(Duration::from_secs(2)));
                 let _ = BufReader::new(&stream).read_line(&mut line);
                 seen.lock().unwrap().push(line.trim().to_string());
             }
@@ -111,8 +112,38 @@ fn browser(binary: &Path, dir: &Path, profile: &str, proxy: &Proxy) -> Command {
     command
 }
 
+/// Longest a browser run may take: a hung browser fails the test instead of stalling it.
+const BROWSER_TIMEOUT: Duration = Duration::from_secs(120);
+
 fn run(mut command: Command, what: &str) -> Output {
-    let output = command.output().unwrap_or_else(|e| panic!("{what}: cannot start the browser: {e}"));
+    command.stdout(Stdio::piped()).stderr(Stdio::piped());
+    let mut child = command.spawn().unwrap_or_else(|e| panic!("{what}: cannot start the browser: {e}"));
+    // read both pipes while waiting, so that a full pipe never blocks the browser
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut buffer = Vec::new();
+        let _ = out.read_to_end(&mut buffer);
+        buffer
+    });
+    let err = std::thread::spawn(move || {
+        let mut buffer = Vec::new();
+        let _ = err.read_to_end(&mut buffer);
+        buffer
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > BROWSER_TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what}: the browser did not finish within {BROWSER_TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let output = Output { status, stdout: out.join().unwrap(), stderr: err.join().unwrap() };
     assert!(output.status.success(), "{what}: {:?}\n{}", output.status, String::from_utf8_lossy(&output.stderr));
     output
 }
