@@ -207,3 +207,19 @@ fn the_inertia_box_of_a_box_is_the_box() {
     assert!((half - crate::math::DVec3::new(1.5, 1.0, 0.5)).length() < 1e-12, "{half}");
     assert_eq!(user_from_body, crate::math::DQuat::IDENTITY);
 }
+
+#[test]
+fn errors_are_absolute_when_the_initial_value_is_zero() {
+    let at_rest = |e: f64| Invariants {
+        energy: e,
+        linear_momentum: crate::math::DVec3::ZERO,
+        angular_momentum: crate::math::DVec3::new(e, 0.0, 0.0),
+    };
+    let errors = InvariantErrors::of(&[at_rest(0.0), at_rest(-0.5), at_rest(2.0)]);
+    assert!(errors.energy_is_absolute && errors.angular_momentum_is_absolute);
+    assert_eq!(errors.energy, [0.0, -0.5, 2.0], "signed, in J");
+    assert_eq!(errors.angular_momentum, [0.0, 0.5, 2.0], "a norm, in kg·m²/s");
+    let relative = InvariantErrors::of(&[at_rest(-2.0), at_rest(-1.0)]);
+    assert_eq!((relative.energy[1], relative.angular_momentum[1]), (0.5, 0.5), "over |E₀| and |L₀|");
+    assert!(InvariantErrors::of(&[]).energy.is_empty());
+}
