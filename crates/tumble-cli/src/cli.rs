@@ -25,6 +25,10 @@ pub enum Command {
     Run(RunArgs),
     /// Parse and validate a scene file and print what was understood.
     Check(CheckArgs),
+    /// Plot a trajectory: energy and angular-momentum errors, body-frame angular velocity, position.
+    Plot(PlotArgs),
+    /// Write a 3D replay of a trajectory: one self-contained HTML file that works offline.
+    View(ViewArgs),
 }
 
 /// `tumble run`.
@@ -71,6 +75,52 @@ pub struct RunArgs {
     /// Write the trajectory even when its estimated size exceeds 10 GB.
     #[arg(long)]
     pub force: bool,
+
+    /// After the run, plot the trajectory to FILE.svg or FILE.png (as `tumble plot`).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
+    /// After the run, write a 3D replay to FILE.html (as `tumble view`).
+    #[arg(long, value_name = "FILE")]
+    pub view: Option<PathBuf>,
+}
+
+/// `tumble plot`.
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// Trajectory file (.csv or .jsonl, or the .partial file a stopped run left).
+    pub trajectory: PathBuf,
+
+    /// The scene that made the trajectory: its masses give the energy and angular momentum panels.
+    #[arg(long, value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+
+    /// Image file: FILE.svg or FILE.png.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+
+    /// Bodies to plot, comma-separated [default: the first 4].
+    #[arg(long, value_name = "NAMES")]
+    pub bodies: Option<String>,
+}
+
+/// `tumble view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Trajectory file (.csv or .jsonl, or the .partial file a stopped run left).
+    pub trajectory: PathBuf,
+
+    /// The scene that made the trajectory (shapes, fixed bodies, masses).
+    #[arg(long, value_name = "SCENE")]
+    pub scene: PathBuf,
+
+    /// The replay: FILE.html.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+
+    /// Keep about this many frames (between it and twice it) [default: 1000, fewer for many bodies].
+    #[arg(long, value_name = "N")]
+    pub max_frames: Option<usize>,
 }
 
 /// `tumble check`.

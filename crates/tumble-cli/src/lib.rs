@@ -3,6 +3,8 @@
 //! - [`cli`]: the command line (clap).
 //! - [`run`]: `tumble run`: load, validate, open the outputs, simulate, report.
 //! - [`check`]: `tumble check`: load, validate, describe.
+//! - [`plot`]: `tumble plot` (and `run --plot`): stacked panels over time, SVG or PNG.
+//! - [`view`]: `tumble view` (and `run --view`): a 3D replay in one self-contained HTML file.
 //! - [`output`]: output files, written beside the target and renamed into place.
 //! - [`report`]: the printed summary table and the progress bar.
 //! - [`signal`]: SIGINT/SIGTERM end a run cleanly after the current step.
@@ -17,9 +19,11 @@ pub mod check;
 pub mod cli;
 pub mod error;
 pub mod output;
+pub mod plot;
 pub mod report;
 pub mod run;
 pub mod signal;
+pub mod view;
 
 use clap::Parser;
 use error::Status;
@@ -40,6 +44,8 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         cli::Command::Run(args) => run::run(&args),
         cli::Command::Check(args) => check::check(&args),
+        cli::Command::Plot(args) => plot::plot(&args),
+        cli::Command::View(args) => view::view(&args),
     };
     match result {
         Ok(status) => status.into(),

@@ -54,6 +54,7 @@ impl Plan {
                 out.display()
             ))
         })?;
+        crate::plot::check_run(args, &out)?;
         if let Some(scene) = &args.scene {
             for (flag, path) in [("--out", Some(&out)), ("--summary", args.summary.as_ref())] {
                 if path.is_some_and(|p| same_file(scene, p)) {
@@ -286,6 +287,7 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
         let table = report::table(&run_summary, &out, format, summary.as_deref());
         stdout.write(&table).map_err(stdout_failure)?;
     }
+    crate::plot::after_run(args, &world, &origin, &out)?;
     let t = world.time();
     match outcome.stop {
         Stop::Completed => Ok(Status::Success),

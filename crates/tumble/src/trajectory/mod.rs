@@ -4,6 +4,8 @@
 //! - [`Monitor`]: the invariants of a run (energy, linear and angular momentum) and the flips of
 //!   bodies turning about their intermediate principal axis, observed at every sample.
 //! - [`Summary`]: what a run did, serialised as the summary JSON of the contract.
+//! - [`read`](mod@read): trajectories read back into frames, with precise errors; [`derived`]: the invariants
+//!   and body-frame angular velocity of the frames read back (for plots and the replay).
 //!
 //! Everything written is in the world frame and SI units: position of the centre of mass (m),
 //! orientation `[w, x, y, z]` of the body axes the user gave (`world_from_user`), velocity of the
@@ -24,11 +26,14 @@
 //! {"t":0.0,"bodies":[{"name":"a","position":[..],"orientation":[..],"velocity":[..],"angular_velocity":[..]}]}
 //! ```
 
+pub mod derived;
 mod monitor;
+pub mod read;
 mod summary;
 mod writer;
 
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
+pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
 pub use writer::{TrajectoryWriter, CSV_HEADER};
 

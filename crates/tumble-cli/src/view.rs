@@ -1,0 +1,265 @@
+//! `tumble view TRAJ --scene SCENE --out replay.html`, and `tumble run --view FILE`: a 3D replay in
+//! one self-contained HTML file.
+//!
+//! The page is `assets/viewer.html` (a small WebGL renderer written for tumble, no library, no
+//! network) with the replay's data put in place of its `/*TUMBLE_DATA*/null` marker, as one JSON
+//! object:
+//!
+//! - `title`; `truncated` (a note when the file was cut short, or `null`); `decimation` (a note when
+//!   frames were dropped, or `null`);
+//! - `bodies`: `{name, color: [r, g, b] in 0..1, index, position, orientation, parts}` where `index`
+//!   is the body's place in each frame (`null` for a fixed body, drawn at `position` (m, world) and
+//!   `orientation` `[w, x, y, z]`), and `parts` are `{geometry, position, orientation}` in the user's
+//!   body axes, `geometry` one of `sphere {radius}`, `box {half_extents}`, `capsule {radius,
+//!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
+//!   `convex_hull {vertices, triangles}`. A body without a shape gets its inertia-equivalent box
+//!   (`inertia_box: true`). A robot's links are bodies named `robot/link`, listed by robot.
+//! - `times` (s) and `frames`: per frame, `x, y, z, qw, qx, qy, qz` of every moving body in order
+//!   (world frame, m; orientation `world_from_user`);
+//! - `energy`: `{label, values}`, the relative energy error per frame (or `null`).
+//!
+//! **Decimation.** At most about [`MAX_BODY_SAMPLES`] body-samples are kept (between that and twice
+//! it, and never more than 2 × [`MAX_FRAMES`] frames): frames are dropped evenly (every `2^k`-th
+//! frame of the file, and the last one; see `tumble::trajectory::ReadOptions`), and the replay
+//! interpolates between the frames kept (positions linearly, orientations by normalised linear
+//! interpolation). Numbers are written with `f32` precision (7 significant digits). The demo (30 s,
+//! 2 bodies, 3001 samples) keeps 1501 frames and makes a file of about 220 kB.
+
+use crate::cli::ViewArgs;
+use crate::error::{Failure, Status};
+use crate::plot::{read_trajectory, truncation_note, write_output};
+use std::fmt::Write as _;
+use std::path::Path;
+use tumble::body::Shape;
+use tumble::math::quat_to_wxyz;
+use tumble::scene;
+use tumble::trajectory::derived::{self, InvariantErrors};
+use tumble::trajectory::Trajectory;
+use tumble::{RigidBody, World};
+
+/// The page, with its data marker.
+const TEMPLATE: &str = include_str!("../assets/viewer.html");
+/// Where the data goes in the page.
+const DATA_MARKER: &str = "/*TUMBLE_DATA*/null";
+/// Body-samples kept in a replay (frames × moving bodies), about.
+pub const MAX_BODY_SAMPLES: usize = 100_000;
+/// Frames kept in a replay, about (the bound for few bodies).
+pub const MAX_FRAMES: usize = 1000;
+
+/// Colours of moving bodies, in turn (sRGB, 0..1).
+const PALETTE: [[f32; 3]; 8] = [
+    [0.94, 0.55, 0.22],
+    [0.30, 0.62, 0.90],
+    [0.47, 0.78, 0.38],
+    [0.86, 0.36, 0.44],
+    [0.68, 0.52, 0.88],
+    [0.95, 0.78, 0.30],
+    [0.30, 0.78, 0.76],
+    [0.80, 0.80, 0.82],
+];
+/// Colour of fixed bodies.
+const FIXED_COLOR: [f32; 3] = [0.55, 0.58, 0.62];
+
+/// `tumble view`.
+pub fn view(args: &ViewArgs) -> Result<Status, Failure> {
+    check_out(&args.out, "--out")?;
+    let scene = scene::load(&args.scene).map_err(Failure::bad_input)?;
+    let max_frames = frames_budget(&scene.world, args.max_frames);
+    let trajectory = read_trajectory(&args.trajectory, max_frames, Failure::bad_input)?;
+    if let Some(note) = truncation_note(&trajectory) {
+        let _ = writeln_stderr(&format!("warning: {}: {note}", args.trajectory.display()));
+    }
+    let page = page(&trajectory, &scene.world, &scene.origin, &args.trajectory).map_err(Failure::bad_input)?;
+    write_output(&args.out, page.as_bytes())?;
+    Ok(Status::Success)
+}
+
+fn writeln_stderr(text: &str) -> std::io::Result<()> {
+    use std::io::Write;
+    writeln!(std::io::stderr().lock(), "{text}")
+}
+
+/// A replay is written to `.html` or `.htm`; anything else is bad input, named after `flag`.
+pub fn check_out(path: &Path, flag: &str) -> Result<(), Failure> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("html" | "htm") => Ok(()),
+        _ => Err(Failure::bad_input(format!("{flag} {}: a replay is an HTML file; use FILE.html", path.display()))),
+    }
+}
+
+/// The frames to keep for a scene (see the module doc), or `requested`.
+pub fn frames_budget(world: &World, requested: Option<usize>) -> usize {
+    let moving = world.free_bodies().count().max(1);
+    requested.unwrap_or((MAX_BODY_SAMPLES / moving).clamp(2, MAX_FRAMES)).max(2)
+}
+
+/// The page for a trajectory of the scene `world` (from `origin`); `path` names the trajectory in
+/// the title and messages.
+pub fn page(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
+    let data = data(trajectory, world, origin, path)?;
+    Ok(TEMPLATE.replacen(DATA_MARKER, &data, 1))
+}
+
+/// The replay's data as JSON (the fields of the module doc).
+fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
+    let name = path.display().to_string();
+    let invariants = derived::invariants(trajectory, world, &name, origin).map_err(|e| e.to_string())?;
+    let errors = InvariantErrors::of(&invariants);
+    let mut out = String::with_capacity(64 + trajectory.frames.len() * trajectory.bodies.len() * 64);
+    let (t0, t1) = trajectory.time_span();
+    let title = format!("{name} · {} · {} moving bodies · t = {t0}–{t1} s", origin, trajectory.bodies.len());
+    let _ = write!(out, "{{\"title\":{},", json_string(&title));
+    let truncated = truncation_note(trajectory).map(|n| format!("the trajectory ends early: {n}"));
+    let _ = write!(out, "\"truncated\":{},", truncated.as_deref().map_or("null".into(), json_string));
+    let decimation = (trajectory.stride > 1).then(|| {
+        format!(
+            "{} of {} frames shown (one in {})",
+            trajectory.frames.len(),
+            trajectory.frames_in_file,
+            trajectory.stride
+        )
+    });
+    let _ = write!(out, "\"decimation\":{},", decimation.as_deref().map_or("null".into(), json_string));
+
+    out.push_str("\"bodies\":[");
+    let mut colour = 0;
+    let mut first = true;
+    for body in &world.bodies {
+        let index = trajectory.bodies.iter().position(|n| n == &body.name);
+        let Some(parts) = parts(body) else { continue };
+        if !first {
+            out.push(',');
+        }
+        first = false;
+        let color = if body.fixed {
+            FIXED_COLOR
+        } else {
+            colour += 1;
+            PALETTE[(colour - 1) % PALETTE.len()]
+        };
+        let _ = write!(
+            out,
+            "{{\"name\":{},\"color\":{},\"index\":{},\"position\":{},\"orientation\":{},\"inertia_box\":{},\"parts\":[{parts}]}}",
+            json_string(&body.name),
+            numbers(&color.map(f64::from)),
+            index.map_or("null".into(), |i| i.to_string()),
+            numbers(&body.state.position.to_array()),
+            numbers(&quat_to_wxyz(body.orientation_user())),
+            body.shape.is_none(),
+        );
+    }
+    out.push_str("],");
+
+    out.push_str("\"times\":[");
+    push_joined(&mut out, trajectory.frames.iter().map(|f| f.t));
+    out.push_str("],\"frames\":[");
+    for (k, frame) in trajectory.frames.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        out.push('[');
+        let values = frame.states.iter().flat_map(|s| {
+            let q = quat_to_wxyz(s.orientation);
+            [s.position.x, s.position.y, s.position.z, q[0], q[1], q[2], q[3]]
+        });
+        push_joined(&mut out, values);
+        out.push(']');
+    }
+    out.push_str("],");
+    let e0 = invariants.first().map_or(0.0, |i| i.energy);
+    let label = if errors.energy_is_absolute {
+        "energy error E − E₀ (J), E₀ = 0".to_string()
+    } else {
+        format!("relative energy error (E − E₀)/|E₀|, E₀ = {} J", crate::plot::short(e0))
+    };
+    let _ = write!(out, "\"energy\":{{\"label\":{},\"values\":[", json_string(&label));
+    push_joined(&mut out, errors.energy.iter().copied());
+    out.push_str("]}}");
+    Ok(out)
+}
+
+/// The parts of a body (JSON objects, comma-separated), or `None` for a fixed body without a shape
+/// (its mass properties are placeholders: nothing to draw).
+fn parts(body: &RigidBody) -> Option<String> {
+    let identity = "\"position\":[0,0,0],\"orientation\":[1,0,0,0]";
+    let geometry = match body.shape {
+        Some(Shape::Sphere { radius }) => format!("{{\"type\":\"sphere\",\"radius\":{}}}", num(radius)),
+        Some(Shape::Box { half_extents }) => {
+            format!("{{\"type\":\"box\",\"half_extents\":{}}}", numbers(&half_extents.to_array()))
+        }
+        Some(Shape::Capsule { radius, half_height }) => {
+            format!("{{\"type\":\"capsule\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
+        }
+        Some(Shape::Cylinder { radius, half_height }) => {
+            format!("{{\"type\":\"cylinder\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
+        }
+        Some(Shape::Plane) => "{\"type\":\"plane\"}".to_string(),
+        None if body.fixed => return None,
+        None => {
+            let (half_extents, user_from_body) = derived::inertia_equivalent_box(&body.mass);
+            return Some(format!(
+                "{{\"geometry\":{{\"type\":\"box\",\"half_extents\":{}}},\"position\":[0,0,0],\"orientation\":{}}}",
+                numbers(&half_extents.to_array()),
+                numbers(&quat_to_wxyz(user_from_body))
+            ));
+        }
+    };
+    Some(format!("{{\"geometry\":{geometry},{identity}}}"))
+}
+
+/// A number with `f32` precision, as JSON (non-finite values, which a trajectory never holds, as 0).
+fn num(x: f64) -> String {
+    let x = x as f32;
+    if x.is_finite() {
+        let mut buffer = ryu::Buffer::new();
+        let text = buffer.format_finite(x);
+        text.strip_suffix(".0").unwrap_or(text).to_string()
+    } else {
+        "0".to_string()
+    }
+}
+
+fn numbers(values: &[f64]) -> String {
+    let mut out = String::from("[");
+    push_joined(&mut out, values.iter().copied());
+    out.push(']');
+    out
+}
+
+fn push_joined(out: &mut String, values: impl Iterator<Item = f64>) {
+    for (i, x) in values.enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        out.push_str(&num(x));
+    }
+}
+
+/// A JSON string literal that is also safe inside a `<script>` element (`<` escaped).
+fn json_string(text: &str) -> String {
+    serde_json::to_string(text).unwrap_or_else(|_| "\"\"".into()).replace('<', "\\u003c")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_never_non_finite() {
+        assert_eq!(num(1.0), "1");
+        assert_eq!(num(0.1), "0.1");
+        assert_eq!(num(f64::NAN), "0");
+        assert_eq!(num(-2.5e-8), "-2.5e-8");
+    }
+
+    #[test]
+    fn a_body_name_cannot_close_the_script() {
+        assert_eq!(json_string("a</script><b>"), "\"a\\u003c/script>\\u003cb>\"");
+    }
+
+    #[test]
+    fn the_template_has_one_data_marker() {
+        assert_eq!(TEMPLATE.matches(DATA_MARKER).count(), 1);
+    }
+}

@@ -1,0 +1,197 @@
+//! `tumble view` and `tumble run --view`: one self-contained HTML file, its data (bodies, shapes,
+//! frames, energy), decimation, the bad inputs, a trajectory cut short. The page in a real browser is
+//! tested by `browser.rs`.
+
+mod common;
+
+use assert_cmd::prelude::*;
+use common::tumble;
+use predicates::prelude::PredicateBooleanExt;
+use predicates::str::contains;
+use serde_json::Value;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn demo_scene() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/demo.toml")
+}
+
+/// The replay's data: the JSON object the page holds.
+fn data_of(html: &str) -> Value {
+    let start = html.find("const DATA = ").expect("a data line") + "const DATA = ".len();
+    let end = start + html[start..].find(";\n").unwrap();
+    serde_json::from_str(&html[start..end]).unwrap()
+}
+
+/// Every place where a page could load something from elsewhere.
+fn external_references(html: &str) -> Vec<String> {
+    let lower = html.to_ascii_lowercase();
+    ["http:", "https:", "src=", "href=", "url(", "@import", "fetch(", "xmlhttprequest", "websocket", "import(", "//cdn"]
+        .iter()
+        .filter(|p| lower.contains(*p))
+        .map(|p| p.to_string())
+        .collect()
+}
+
+fn view(dir: &Path, args: &[&str]) -> assert_cmd::assert::Assert {
+    tumble(dir).arg("view").args(args).assert()
+}
+
+#[test]
+fn the_demo_replay_is_one_small_offline_file() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path()).args(["run", "--out", "demo.csv", "--quiet"]).assert().success();
+    view(dir.path(), &["demo.csv", "--scene", demo_scene().to_str().unwrap(), "--out", "r.html"]).success();
+    let html = fs::read_to_string(dir.path().join("r.html")).unwrap();
+    assert_eq!(external_references(&html), Vec::<String>::new(), "the page loads nothing");
+    assert!(html.len() < 400_000, "{} bytes", html.len());
+    let data = data_of(&html);
+    let bodies = data["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 2);
+    assert_eq!(bodies[0]["name"], "flipper");
+    assert_eq!(bodies[1]["index"], 1);
+    assert_eq!(bodies[0]["parts"][0]["geometry"]["type"], "box");
+    assert_eq!(bodies[0]["parts"][0]["geometry"]["half_extents"], serde_json::json!([1.5, 1, 0.5]));
+    // 3001 samples, more than the 1000..2000 kept: every other one, and the last
+    let times: Vec<f64> = data["times"].as_array().unwrap().iter().map(|t| t.as_f64().unwrap()).collect();
+    assert_eq!(times.len(), 1501);
+    assert!(times.windows(2).all(|w| w[1] > w[0]));
+    assert_eq!(*times.last().unwrap(), 30.0);
+    assert!(data["decimation"].as_str().unwrap().contains("1501 of 3001 frames"));
+    let frames = data["frames"].as_array().unwrap();
+    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 14), "x, y, z, qw, qx, qy, qz of 2 bodies");
+    assert_eq!(frames[0][7], 4.0, "the stable box starts at x = 4 m");
+    let energy = data["energy"]["values"].as_array().unwrap();
+    assert_eq!(energy.len(), 1501);
+    assert_eq!(energy[0], 0.0);
+    assert!(energy.iter().all(|e| e.as_f64().unwrap().abs() < 1e-6), "the splitting keeps the energy");
+    assert!(data["truncated"].is_null());
+}
+
+const SHAPES: &str = r#"
+version = 1
+[world]
+dt = 0.01
+duration = 0.5
+[[body]]
+name = "floor"
+fixed = true
+shape = { type = "plane" }
+[[body]]
+name = "wall"
+fixed = true
+[[body]]
+name = "ball"
+density = 1000.0
+shape = { type = "sphere", radius = 0.2 }
+position = [0.0, 0.0, 3.0]
+[[body]]
+name = "pill"
+density = 500.0
+shape = { type = "capsule", radius = 0.1, half_height = 0.3 }
+position = [2.0, 0.0, 3.0]
+[[body]]
+name = "can"
+density = 500.0
+shape = { type = "cylinder", radius = 0.25, half_height = 0.1 }
+position = [3.0, 0.0, 3.0]
+[[body]]
+name = "arm/link1 </script>"
+mass = 3.0
+inertia = [0.5, 1.0, 1.25]
+position = [1.0, 0.0, 3.0]
+angular_velocity = [0.0, 0.0, 1.0]
+"#;
+
+#[test]
+fn shapes_fixed_bodies_and_inertia_boxes() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("s.toml"), SHAPES).unwrap();
+    tumble(dir.path()).args(["run", "s.toml", "--out", "s.csv", "--quiet", "--view", "s.html"]).assert().success();
+    let html = fs::read_to_string(dir.path().join("s.html")).unwrap();
+    assert_eq!(html.matches("</script>").count(), 1, "a body name cannot end the script");
+    let data = data_of(&html);
+    let bodies = data["bodies"].as_array().unwrap();
+    let names: Vec<&str> = bodies.iter().map(|b| b["name"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        ["floor", "ball", "pill", "can", "arm/link1 </script>"],
+        "a fixed body without a shape is not drawn"
+    );
+    assert_eq!(bodies[0]["index"], Value::Null);
+    assert_eq!(bodies[0]["parts"][0]["geometry"]["type"], "plane");
+    assert_eq!(bodies[1]["parts"][0]["geometry"], serde_json::json!({"type": "sphere", "radius": 0.2}));
+    assert_eq!(
+        bodies[2]["parts"][0]["geometry"],
+        serde_json::json!({"type": "capsule", "radius": 0.1, "half_height": 0.3})
+    );
+    assert_eq!(
+        bodies[3]["parts"][0]["geometry"],
+        serde_json::json!({"type": "cylinder", "radius": 0.25, "half_height": 0.1})
+    );
+    // moments 0.5, 1, 1.25 kg·m² of 3 kg: h1² = 3 (1 + 1.25 − 0.5) / 6, ...
+    let arm = &bodies[4];
+    assert_eq!(arm["inertia_box"], true);
+    let h: Vec<f64> =
+        arm["parts"][0]["geometry"]["half_extents"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let expected = [0.875f64.sqrt(), 0.375f64.sqrt(), 0.125f64.sqrt()];
+    for (got, want) in h.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-6, "{h:?}");
+    }
+    assert_eq!(arm["index"], 3);
+}
+
+#[test]
+fn large_trajectories_are_decimated() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path()).args(["run", "--duration", "5", "--out", "d.csv", "--quiet"]).assert().success();
+    let scene = demo_scene();
+    view(dir.path(), &["d.csv", "--scene", scene.to_str().unwrap(), "--out", "d.html", "--max-frames", "40"]).success();
+    let data = data_of(&fs::read_to_string(dir.path().join("d.html")).unwrap());
+    let n = data["times"].as_array().unwrap().len();
+    assert!((40..=81).contains(&n), "{n} frames");
+    assert_eq!(data["times"][n - 1], 5.0);
+}
+
+#[test]
+fn a_trajectory_cut_short_shows_what_is_there() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path()).args(["run", "--duration", "2", "--out", "d.csv", "--quiet"]).assert().success();
+    let text = fs::read_to_string(dir.path().join("d.csv")).unwrap();
+    fs::write(dir.path().join("d.csv"), &text[..text.len() / 2]).unwrap();
+    let scene = demo_scene();
+    view(dir.path(), &["d.csv", "--scene", scene.to_str().unwrap(), "--out", "d.html"])
+        .success()
+        .stderr(contains("cut short"));
+    let data = data_of(&fs::read_to_string(dir.path().join("d.html")).unwrap());
+    assert!(data["truncated"].as_str().unwrap().starts_with("the trajectory ends early"));
+    let last = data["times"].as_array().unwrap().last().unwrap().as_f64().unwrap();
+    assert!(last > 0.5 && last < 1.5, "up to the cut: {last}");
+}
+
+#[test]
+fn bad_input_is_exit_2_naming_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path()).args(["run", "--duration", "1", "--out", "d.csv", "--quiet"]).assert().success();
+    let scene = demo_scene();
+    let scene = scene.to_str().unwrap();
+    fs::write(dir.path().join("s.toml"), SHAPES).unwrap();
+    view(dir.path(), &["d.csv", "--scene", "s.toml", "--out", "x.html"])
+        .code(2)
+        .stderr(contains("`flipper`, `stable`").and(contains("`ball`, `pill`, `can`, `arm/link1 </script>`")));
+    fs::write(dir.path().join("cols.csv"), "t,body,x,y,z,vx,vy,vz,wx,wy,wz\n").unwrap();
+    view(dir.path(), &["cols.csv", "--scene", scene, "--out", "x.html"])
+        .code(2)
+        .stderr(contains("missing columns `qw`, `qx`, `qy`, `qz`"));
+    view(dir.path(), &["d.csv", "--scene", scene, "--out", "x.svg"]).code(2).stderr(contains("use FILE.html"));
+    view(dir.path(), &["d.csv", "--scene", "nope.toml", "--out", "x.html"]).code(2).stderr(contains("nope.toml"));
+    assert!(!dir.path().join("x.html").exists() && !dir.path().join("x.svg").exists());
+    // the trajectory must be read back: not a device
+    std::os::unix::fs::symlink("/dev/null", dir.path().join("null.csv")).unwrap();
+    tumble(dir.path())
+        .args(["run", "--out", "null.csv", "--view", "x.html"])
+        .assert()
+        .code(2)
+        .stderr(contains("--plot/--view read the trajectory back, but --out null.csv is not a regular file"));
+    assert!(!dir.path().join("x.html").exists());
+}
