@@ -79,7 +79,7 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     let flips = if s.flips.is_empty() {
         "- (no moving body has three distinct principal moments)".to_string()
     } else {
-        s.flips.iter().map(|f| format!("{} {}", f.body, f.flips)).collect::<Vec<_>>().join(", ")
+        s.flips.iter().map(flip_text).collect::<Vec<_>>().join(", ")
     };
     row("flips (intermediate axis)", flips);
     let kind = match format {
@@ -267,4 +267,15 @@ mod tests {
         assert!(t.tick(2048).out_of_time);
         assert!(!Ticker::new(10, 1, false).tick(1024).out_of_time, "no limit");
     }
+}
+
+/// `flipper 4 (every 6.4213 s; exact 2K/λ = 6.4213 s)`.
+fn flip_text(f: &tumble::trajectory::FlipSummary) -> String {
+    let mut text = format!("{} {}", f.body, f.flips);
+    match (f.mean_interval, f.exact_interval) {
+        (Some(mean), Some(exact)) => text += &format!(" (every {mean:.4} s; exact 2K/λ = {exact:.4} s)"),
+        (Some(mean), None) => text += &format!(" (every {mean:.4} s)"),
+        _ => {}
+    }
+    text
 }

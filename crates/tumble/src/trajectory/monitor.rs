@@ -19,6 +19,7 @@
 //! 60° of `L` to within 60° of `−L`. The samples must be closer together than the flips for the count
 //! to be complete. A body with two equal moments (relative difference ≤ [`DISTINCT_MOMENTS_TOLERANCE`]
 //! of the largest) has no intermediate axis and no flip count.
+use crate::analytic::AsymmetricTop;
 use crate::math::DVec3;
 use crate::world::World;
 
@@ -71,6 +72,12 @@ pub struct FlipCounter {
     pub axis: usize,
     /// Flips seen so far.
     pub count: u64,
+    /// Time of the first and of the latest flip (s), at the sample that saw it.
+    pub first_flip_time: f64,
+    pub last_flip_time: f64,
+    /// The exact time between flips `2K(k)/λ` of the torque-free body from its initial state (s), when
+    /// the body has no loads besides gravity (which exerts no torque about the centre of mass).
+    pub exact_interval: Option<f64>,
     /// The last alignment seen: +1 (with `L`), −1 (with `−L`), or 0 before the first.
     last_side: f64,
 }
@@ -88,12 +95,19 @@ impl FlipCounter {
 
     /// A counter for body `body` about `axis`, with no alignment seen yet.
     pub fn new(body: usize, axis: usize) -> Self {
-        Self { body, axis, count: 0, last_side: 0.0 }
+        Self { body, axis, count: 0, first_flip_time: 0.0, last_flip_time: 0.0, exact_interval: None, last_side: 0.0 }
     }
 
-    /// Takes one more sample of the body-frame angular momentum `L_body = I_body ω_body` (kg·m²/s).
+    /// The mean time between the flips seen (s): `(t_last − t_first)/(count − 1)`, from two flips on.
+    /// Its resolution is the sampling interval divided by `count − 1`.
+    pub fn mean_interval(&self) -> Option<f64> {
+        (self.count >= 2).then(|| (self.last_flip_time - self.first_flip_time) / (self.count - 1) as f64)
+    }
+
+    /// Takes one more sample at time `t` (s) of the body-frame angular momentum `L_body = I_body ω_body`
+    /// (kg·m²/s).
     #[inline]
-    pub fn observe(&mut self, l_body: DVec3) {
+    pub fn observe(&mut self, l_body: DVec3, t: f64) {
         let cosine = l_body[self.axis] / l_body.length();
         let side = if cosine >= FLIP_ALIGNMENT {
             1.0
@@ -104,6 +118,10 @@ impl FlipCounter {
         };
         if self.last_side != 0.0 && side != self.last_side {
             self.count += 1;
+            if self.count == 1 {
+                self.first_flip_time = t;
+            }
+            self.last_flip_time = t;
         }
         self.last_side = side;
     }
@@ -131,7 +149,16 @@ impl Monitor {
             .enumerate()
             .filter(|(_, b)| !b.fixed)
             .filter_map(|(i, b)| {
-                FlipCounter::intermediate_axis(b.mass.inertia_body).map(|axis| FlipCounter::new(i, axis))
+                FlipCounter::intermediate_axis(b.mass.inertia_body).map(|axis| {
+                    let mut counter = FlipCounter::new(i, axis);
+                    if b.loads.is_empty() {
+                        counter.exact_interval = AsymmetricTop::new(b.mass.inertia_body, b.state.omega_body)
+                            .ok()
+                            .map(|top| top.flip_interval())
+                            .filter(|t| t.is_finite());
+                    }
+                    counter
+                })
             })
             .collect();
         let mut monitor = Self {
@@ -163,7 +190,7 @@ impl Monitor {
             self.max_angular_momentum_error = l_error;
         }
         for counter in &mut self.flips {
-            counter.observe(world.bodies[counter.body].angular_momentum_body());
+            counter.observe(world.bodies[counter.body].angular_momentum_body(), world.time());
         }
         self.last = now;
         self.last_time = world.time();

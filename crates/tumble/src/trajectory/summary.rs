@@ -63,12 +63,18 @@ pub struct AngularMomentumSummary {
 }
 
 /// Flips of one body about its intermediate principal axis (see [`Monitor`](super::Monitor)).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FlipSummary {
     /// The body's name.
     pub body: String,
     /// Sign changes of `ω_body` about the intermediate axis between samples.
     pub flips: u64,
+    /// Mean time between the flips seen (s), from two flips on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_interval: Option<f64>,
+    /// The exact time between flips of the torque-free body, `2K(k)/λ` (s), when it has no loads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exact_interval: Option<f64>,
 }
 
 /// What a run did.
@@ -139,7 +145,13 @@ impl Summary {
             flips: monitor
                 .flips()
                 .iter()
-                .map(|c| FlipSummary { body: world.bodies[c.body].name.clone(), flips: c.count })
+                .map(|c| FlipSummary {
+                    body: world.bodies[c.body].name.clone(),
+                    flips: c.count,
+                    mean_interval: c.mean_interval(),
+                    // a body that never flipped only wobbles: its half-period is no flip interval
+                    exact_interval: c.exact_interval.filter(|_| c.count > 0),
+                })
                 .collect(),
             scene: scene.to_string(),
         }

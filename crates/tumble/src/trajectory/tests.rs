@@ -218,16 +218,25 @@ fn a_flip_is_a_turn_of_the_intermediate_axis_from_l_to_minus_l() {
     let mut c = FlipCounter::new(0, 1);
     let l = |cosine: f64| DVec3::new((1.0 - cosine * cosine).max(0.0).sqrt(), cosine, 0.0);
     // wobbles about zero are no flip; 0/0 and NaN are skipped
+    let mut t = 0.0;
+    let mut sample = |c: &mut FlipCounter, l_body: DVec3| {
+        t += 1.0;
+        c.observe(l_body, t);
+    };
     for cosine in [0.1, -0.1, 0.4, -0.4, 0.2] {
-        c.observe(l(cosine));
+        sample(&mut c, l(cosine));
     }
-    c.observe(DVec3::ZERO);
-    c.observe(DVec3::NAN);
+    sample(&mut c, DVec3::ZERO);
+    sample(&mut c, DVec3::NAN);
     assert_eq!(c.count, 0);
+    assert_eq!(c.mean_interval(), None);
+    // samples at t = 8, 9, ..., 17: flips seen at t = 11 (−0.6), 15 (0.5) and 17 (−0.5)
     for cosine in [0.9, 0.3, -0.3, -0.6, -1.0, 0.0, 0.49, 0.5, 1.0, -0.5] {
-        c.observe(l(cosine));
+        sample(&mut c, l(cosine));
     }
     assert_eq!(c.count, 3);
+    assert_eq!((c.first_flip_time, c.last_flip_time), (11.0, 17.0));
+    assert_eq!(c.mean_interval(), Some(3.0));
 }
 
 #[test]
@@ -374,4 +383,28 @@ mod round_trip {
             }
         }
     }
+}
+
+/// The demo's flipper: the mean time between the flips the monitor sees matches the exact interval
+/// `2K/λ` of the torque-free body to the sampling resolution, and the stable body reports none.
+#[test]
+fn demo_flip_interval_matches_the_exact_one() {
+    let mut world = crate::scene::demo().world;
+    let mut monitor = Monitor::new(&world);
+    let every = world.config.sample_every;
+    for _ in 0..world.config.step_count() {
+        world.step().unwrap();
+        if world.steps() % every == 0 {
+            monitor.observe(&world);
+        }
+    }
+    let summary = Summary::new(&world, &monitor, 0.0, StopReason::Completed, "demo");
+    let flipper = &summary.flips[0];
+    let stable = &summary.flips[1];
+    assert!(flipper.flips >= 4, "{flipper:?}");
+    let (mean, exact) = (flipper.mean_interval.unwrap(), flipper.exact_interval.unwrap());
+    // each flip is seen at the first sample past it: the mean is exact to ± one sampling interval / (n − 1)
+    let resolution = every as f64 * world.config.dt / (flipper.flips - 1) as f64;
+    assert!((mean - exact).abs() <= resolution, "mean {mean} s, exact {exact} s, resolution {resolution} s");
+    assert_eq!((stable.flips, stable.mean_interval, stable.exact_interval), (0, None, None));
 }
