@@ -3,6 +3,7 @@
 //! - [`cli`]: the command line (clap).
 //! - [`run`]: `tumble run`: load, validate, open the outputs, simulate, report.
 //! - [`check`]: `tumble check`: load, validate, describe.
+//! - [`mass`]: `tumble mass`: the mass properties of a mesh, as JSON.
 //! - [`output`]: output files, written beside the target and renamed into place.
 //! - [`report`]: the printed summary table and the progress bar.
 //! - [`signal`]: SIGINT/SIGTERM end a run cleanly after the current step.
@@ -16,6 +17,7 @@
 pub mod check;
 pub mod cli;
 pub mod error;
+pub mod mass;
 pub mod output;
 pub mod report;
 pub mod run;
@@ -40,6 +42,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         cli::Command::Run(args) => run::run(&args),
         cli::Command::Check(args) => check::check(&args),
+        cli::Command::Mass(args) => mass::mass(&args),
     };
     match result {
         Ok(status) => status.into(),
