@@ -19,7 +19,7 @@
 //! 5. the signed volume must be clearly nonzero (`|V| > 1e-12 L³`, `L` the largest side of the
 //!    bounding box); a negative one means the triangles face inward: they are flipped, with a warning.
 //!
-//! Cost: `O(n)` hashing to weld and `O(n log n)` to sort the `3n` directed edges.
+//! Cost: `O(n)`: hashing to weld, a counting sort of the `3n` directed edges by their smaller end.
 
 use super::integrals::first_moments;
 use super::read::TriangleSoup;
@@ -134,43 +134,60 @@ impl TriMesh {
         TriMesh { vertices: self.vertices.iter().map(|&v| f(v)).collect(), triangles: self.triangles.clone() }
     }
 
-    /// Edge check (step 4 of the module doc).
+    /// Edge check (step 4 of the module doc). Each directed edge `a → b` is filed under its smaller
+    /// end (a counting sort: two sequential passes and one scatter, no comparison sort of all
+    /// `3n` edges), as `(larger end << 1) | (a < b)`; then each vertex's few edges are sorted and
+    /// grouped by the other end.
     fn check_edges(&self, warnings: &mut Vec<MeshWarning>) -> Result<(), MeshProblem> {
-        // each directed edge a → b as (min << 32 | max, whether a < b)
-        let mut edges: Vec<(u64, bool)> = Vec::with_capacity(3 * self.triangles.len());
+        let n = self.vertices.len();
+        let mut start = vec![0_usize; n + 1];
         for t in &self.triangles {
             for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                edges.push(((u64::from(lo) << 32) | u64::from(hi), a < b));
+                start[a.min(b) as usize + 1] += 1;
             }
         }
-        edges.sort_unstable_by_key(|e| e.0);
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut filled = start.clone();
+        let mut edges = vec![0_u64; 3 * self.triangles.len()];
+        for t in &self.triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let lo = a.min(b) as usize;
+                edges[filled[lo]] = (u64::from(a.max(b)) << 1) | u64::from(a < b);
+                filled[lo] += 1;
+            }
+        }
         let (mut open, mut inconsistent, mut non_manifold) = (0_usize, 0_usize, 0_usize);
         let (mut open_example, mut inconsistent_example) = (None, None);
-        for group in edges.chunk_by(|a, b| a.0 == b.0) {
-            let forward = group.iter().filter(|e| e.1).count();
-            let backward = group.len() - forward;
-            if forward == backward {
-                non_manifold += usize::from(group.len() > 2);
-            } else if group.len() % 2 == 1 {
-                open += 1;
-                open_example.get_or_insert(group[0].0);
-            } else {
-                inconsistent += 1;
-                inconsistent_example.get_or_insert(group[0].0);
+        for lo in 0..n {
+            let bucket = &mut edges[start[lo]..start[lo + 1]];
+            bucket.sort_unstable();
+            for group in bucket.chunk_by(|x, y| x >> 1 == y >> 1) {
+                let forward = group.iter().filter(|&&e| e & 1 == 1).count();
+                let backward = group.len() - forward;
+                let edge = (lo, (group[0] >> 1) as usize);
+                if forward == backward {
+                    non_manifold += usize::from(group.len() > 2);
+                } else if group.len() % 2 == 1 {
+                    open += 1;
+                    open_example.get_or_insert(edge);
+                } else {
+                    inconsistent += 1;
+                    inconsistent_example.get_or_insert(edge);
+                }
             }
         }
-        let point = |key: u64, shift: u32| self.vertices[((key >> shift) & 0xffff_ffff) as usize].to_array();
-        let example = |key: u64| (point(key, 32), point(key, 0));
-        if let Some(key) = open_example {
+        let example = |(a, b): (usize, usize)| (self.vertices[a].to_array(), self.vertices[b].to_array());
+        if let Some(edge) = open_example {
             return Err(MeshProblem::NotClosed {
                 open_edges: open,
                 inconsistent_edges: inconsistent,
-                example: example(key),
+                example: example(edge),
             });
         }
-        if let Some(key) = inconsistent_example {
-            return Err(MeshProblem::Inconsistent { inconsistent_edges: inconsistent, example: example(key) });
+        if let Some(edge) = inconsistent_example {
+            return Err(MeshProblem::Inconsistent { inconsistent_edges: inconsistent, example: example(edge) });
         }
         if non_manifold > 0 {
             warnings.push(MeshWarning::NonManifold { edges: non_manifold });
@@ -179,14 +196,27 @@ impl TriMesh {
     }
 }
 
+/// Slots of the cache of recently welded vertices (a power of two; 16 Ki × 32 bytes = 512 KiB).
+const RECENT: usize = 1 << 14;
+
 /// Welds bit-identical corners, keeps only used vertices (in order of first use), skips triangles
 /// with equal corners and counts those of zero area (steps 2 and 3 of the module doc).
 fn weld(vertices: &[DVec3], triangles: &[[u32; 3]], warnings: &mut Vec<MeshWarning>) -> TriMesh {
     // `+ 0.0` turns -0.0 into 0.0, so that the two weld
     let key = |v: DVec3| (v + DVec3::ZERO).to_array().map(f64::to_bits);
+    // a closed mesh has about half as many vertices as triangles (Euler: V − E + F = 2, E = 3F/2)
+    let expected = vertices.len().min(triangles.len() / 2 + 16);
     let mut index_of: HashMap<[u64; 3], u32, ahash::RandomState> =
-        HashMap::with_capacity_and_hasher(vertices.len().min(3 * triangles.len()), ahash::RandomState::new());
-    let mut welded = Vec::new();
+        HashMap::with_capacity_and_hasher(expected, ahash::RandomState::new());
+    let mut welded = Vec::with_capacity(expected);
+    // files list neighbouring triangles near each other: a small direct-mapped cache of recent
+    // vertices (in the processor's cache) answers most look-ups before the large table does;
+    // all-ones bits are a NaN, which no checked coordinate is, so empty slots never match
+    let mut recent = vec![([u64::MAX; 3], 0_u32); RECENT];
+    let slot = |k: &[u64; 3]| {
+        let h = (k[0] ^ k[1].rotate_left(21) ^ k[2].rotate_left(42)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        (h >> (64 - RECENT.trailing_zeros())) as usize
+    };
     // the welded index of each input vertex, filled on first use
     let mut remap = vec![u32::MAX; vertices.len()];
     let mut out = Vec::with_capacity(triangles.len());
@@ -196,10 +226,18 @@ fn weld(vertices: &[DVec3], triangles: &[[u32; 3]], warnings: &mut Vec<MeshWarni
         let corners = tri.map(|i| {
             let i = i as usize;
             if remap[i] == u32::MAX {
-                remap[i] = *index_of.entry(key(vertices[i])).or_insert_with(|| {
-                    welded.push(vertices[i]);
-                    (welded.len() - 1) as u32
-                });
+                let k = key(vertices[i]);
+                let s = slot(&k);
+                remap[i] = if recent[s].0 == k {
+                    recent[s].1
+                } else {
+                    let id = *index_of.entry(k).or_insert_with(|| {
+                        welded.push(vertices[i]);
+                        (welded.len() - 1) as u32
+                    });
+                    recent[s] = (k, id);
+                    id
+                };
             }
             remap[i]
         });
