@@ -130,7 +130,15 @@ fn a_binary_stl_with_a_solid_header_is_read_as_binary() {
 fn obj_faces_are_checked_with_their_line() {
     let p = problem("bad_index.obj");
     assert!(matches!(p, MeshProblem::Parse { format: Format::Obj, line: Some(22), .. }), "{p:?}");
-    for face in ["f 1 2 0", "f 1 2 -9", "f 1/99 2 3", "f 1 2 x", "f 1 2 3/1/1/1", "f 1 2 9223372036854775807"] {
+    for face in [
+        "f 1 2 0",
+        "f 1 2 -9",
+        "f 1/99 2 3",
+        "f 1 2 x",
+        "f 1 2 3/1/1/1",
+        "f 1 2 9223372036854775807",
+        "f 1 2 -9223372036854775808",
+    ] {
         let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\n{face}\n");
         let p = read_obj(text.as_bytes(), &MeshLimits::default()).unwrap_err();
         assert!(matches!(p, MeshProblem::Parse { line: Some(4), .. }), "{face}: {p:?}");
@@ -234,4 +242,18 @@ proptest! {
             let _ = mesh.mass_properties(1.0);
         }
     }
+}
+
+#[test]
+fn coordinates_too_large_for_the_integrals_are_an_error_not_infinity() {
+    // the volume overflows
+    let (v, t) = box_parts(DVec3::splat(1e120));
+    assert!(matches!(TriMesh::new(v, t), Err(MeshProblem::Overflow { .. })));
+    // the volume does not, the inertia (or the mass) does
+    let (v, t) = box_parts(DVec3::splat(1e100));
+    let (mesh, _) = TriMesh::new(v, t).unwrap();
+    assert!(matches!(mesh.mass_properties(1.0), Err(MeshProblem::Overflow { .. })));
+    let (v, t) = box_parts(DVec3::splat(1e100));
+    let (mesh, _) = TriMesh::new(v, t).unwrap();
+    assert!(matches!(mesh.mass_properties(1e10), Err(MeshProblem::Overflow { .. })));
 }

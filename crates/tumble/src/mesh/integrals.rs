@@ -81,6 +81,10 @@ impl TriMesh {
         let trace = s_c.x_axis.x + s_c.y_axis.y + s_c.z_axis.z;
         let inertia = density * (DMat3::from_diagonal(DVec3::splat(trace)) - s_c);
         let mass = density * m.volume;
+        if !(mass.is_finite() && inertia.is_finite()) {
+            let extent = vertices.iter().fold(0.0_f64, |e, v| e.max((*v - r0).abs().max_element())) * 2.0;
+            return Err(MeshProblem::Overflow { extent });
+        }
         let body = MassProperties::from_tensor(mass, inertia).map_err(MeshProblem::Mass)?;
         let (principal_moments, principal_axes) = ascending(body.inertia_body, DMat3::from_quat(body.user_from_body));
         Ok(MeshMassProperties { volume: m.volume, mass, center_of_mass, inertia, principal_moments, principal_axes })

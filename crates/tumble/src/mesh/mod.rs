@@ -93,6 +93,8 @@ pub enum MeshProblem {
         fmt_point(example.0), fmt_point(example.1)
     )]
     Inconsistent { inconsistent_edges: usize, example: ([f64; 3], [f64; 3]) },
+    #[error("coordinates too large: the volume integrals overflow (bounding box {extent:e} m)")]
+    Overflow { extent: f64 },
     #[error("the mesh encloses no volume (signed volume {volume:e} m³ for a bounding box of {extent:e} m)")]
     NoVolume { volume: f64, extent: f64 },
     #[error("scale must be finite and > 0 in every axis (got {0:?})")]

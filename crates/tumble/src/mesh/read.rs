@@ -274,8 +274,10 @@ fn prescan_obj(text: &str, limits: &MeshLimits) -> Result<u64, MeshProblem> {
         for word in words {
             corners += 1;
             for (j, part) in word.split('/').enumerate().filter(|(_, p)| !p.is_empty()) {
-                let ok =
-                    j < 3 && part.parse::<i64>().is_ok_and(|i| (1..=total[j]).contains(&i) || (i < 0 && -i <= seen[j]));
+                let ok = j < 3
+                    && part.parse::<i64>().is_ok_and(|i| {
+                        (1..=total[j]).contains(&i) || (i < 0 && i.unsigned_abs() <= seen[j].unsigned_abs())
+                    });
                 if !ok {
                     let kind = KINDS.get(j).copied().unwrap_or("?");
                     return Err(MeshProblem::Parse {

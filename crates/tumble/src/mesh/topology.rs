@@ -108,7 +108,10 @@ impl TriMesh {
         let reference = bounding_box_centre(&mesh.vertices);
         let (volume, _) = first_moments(&mesh.vertices, &mesh.triangles, reference);
         let size = extent(&mesh.vertices);
-        if !(volume.abs() > 1e-12 * size.powi(3)) {
+        if !volume.is_finite() {
+            return Err(MeshProblem::Overflow { extent: size });
+        }
+        if volume.abs() <= 1e-12 * size.powi(3) {
             return Err(MeshProblem::NoVolume { volume, extent: size });
         }
         if volume < 0.0 {
