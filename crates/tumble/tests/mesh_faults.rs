@@ -41,7 +41,7 @@ fn a_flipped_triangle_is_an_inconsistent_orientation() {
 fn an_inside_out_file_is_flipped_with_a_warning() {
     let loaded = mesh::load(&fixture("inside_out.stl"), [1.0; 3], &MeshLimits::default()).unwrap();
     assert_eq!(loaded.format, Format::StlAscii);
-    assert_eq!(loaded.warnings, vec![MeshWarning::InsideOut { volume: -1.0 }]);
+    assert_eq!(loaded.warnings, vec![MeshWarning::InsideOut { volume: -1.0, shells: 1 }]);
     assert_eq!(loaded.mesh.mass_properties(1.0).unwrap().volume, 1.0);
 }
 
@@ -256,4 +256,42 @@ fn coordinates_too_large_for_the_integrals_are_an_error_not_infinity() {
     let (v, t) = box_parts(DVec3::splat(1e100));
     let (mesh, _) = TriMesh::new(v, t).unwrap();
     assert!(matches!(mesh.mass_properties(1e10), Err(MeshProblem::Overflow { .. })));
+}
+
+/// Two boxes as one mesh: the second of half extents `h2` at `offset`; each facing inward or not.
+/// Returns the volume, the inertia's xx entry and the warnings.
+fn two_boxes(h1: f64, h2: f64, offset: DVec3, inward: [bool; 2]) -> (f64, f64, Vec<MeshWarning>) {
+    let face = |f: [u32; 3], inward: bool| if inward { [f[0], f[2], f[1]] } else { f };
+    let (mut v, t1) = box_parts(DVec3::splat(h1));
+    let mut t: Vec<[u32; 3]> = t1.into_iter().map(|f| face(f, inward[0])).collect();
+    let (v2, t2) = box_parts(DVec3::splat(h2));
+    v.extend(v2.into_iter().map(|p| p + offset));
+    t.extend(t2.into_iter().map(|f| face(f.map(|i| i + 8), inward[1])));
+    let (mesh, warnings) = TriMesh::new(v, t).unwrap();
+    let p = mesh.mass_properties(1.0).unwrap();
+    (p.volume, p.inertia.x_axis.x, warnings)
+}
+
+#[test]
+fn an_inward_shell_inside_another_is_a_cavity() {
+    // a hollow cube: side 2 outside, side 1 inside; I = m s²/6 outside minus inside
+    let (volume, ixx, warnings) = two_boxes(1.0, 0.5, DVec3::ZERO, [false, true]);
+    assert_eq!(warnings, vec![MeshWarning::Cavities { shells: 1, volume: -1.0 }]);
+    assert_eq!(volume, 7.0);
+    close("inertia", ixx, 8.0 * 4.0 / 6.0 - 1.0 / 6.0, 1e-15, 1.0);
+}
+
+#[test]
+fn a_separate_inside_out_part_is_flipped_alone() {
+    let away = DVec3::new(5.0, 0.0, 0.0);
+    let (volume, ixx, warnings) = two_boxes(1.0, 0.5, away, [false, false]);
+    assert!(warnings.is_empty());
+    assert_eq!(volume, 9.0);
+    let (v1, i1, warnings) = two_boxes(1.0, 0.5, away, [false, true]);
+    assert_eq!(warnings, vec![MeshWarning::InsideOut { volume: -1.0, shells: 1 }]);
+    assert_eq!((v1, i1), (volume, ixx));
+    let (v2, i2, warnings) = two_boxes(1.0, 0.5, away, [true, true]);
+    assert_eq!(warnings, vec![MeshWarning::InsideOut { volume: -9.0, shells: 2 }]);
+    assert_eq!((v2, i2), (volume, ixx));
+    assert!(warnings[0].to_string().contains("2 separate shells"));
 }

@@ -6,6 +6,7 @@
 //! - [`topology`]: the soup → a [`TriMesh`] whose vertices are welded, and the checks that make the
 //!   volume integrals meaningful: finite coordinates, a closed surface, a consistent orientation,
 //!   outward normals (an inside-out mesh is flipped with a warning), degenerate triangles.
+//! - [`shells`]: which way each connected piece faces: a cavity, or a part to flip.
 //! - [`integrals`]: volume, centre of mass and inertia tensor of the solid, exact to round-off.
 //!
 //! Frames and units: *mesh axes* are the axes the file is written in; coordinates are read as
@@ -21,6 +22,7 @@
 
 pub mod integrals;
 pub mod read;
+pub mod shells;
 pub mod topology;
 
 pub use integrals::MeshMassProperties;

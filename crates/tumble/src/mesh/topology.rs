@@ -16,13 +16,14 @@
 //!    *inconsistently oriented* (a flipped triangle). Both are errors naming how many edges and
 //!    where one is. Edges shared by four or more triangles, evenly, are accepted with a warning
 //!    (two solids touching along an edge);
-//! 5. the signed volume must be clearly nonzero (`|V| > 1e-12 L³`, `L` the largest side of the
-//!    bounding box); a negative one means the triangles face inward: they are flipped, with a warning.
+//! 5. each shell (connected piece) that faces inward and is no cavity is flipped, with a warning
+//!    (see [`shells`](super::shells)); then the volume must be clearly positive (`V > 1e-12 L³`,
+//!    `L` the largest side of the bounding box).
 //!
 //! Cost: `O(n)`: hashing to weld, a counting sort of the `3n` directed edges by their smaller end.
 
-use super::integrals::first_moments;
 use super::read::TriangleSoup;
+use super::shells::orient_shells;
 use super::MeshProblem;
 use crate::math::DVec3;
 use std::collections::HashMap;
@@ -38,8 +39,11 @@ pub struct TriMesh {
 /// Things noticed in a mesh and accepted.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshWarning {
-    /// The triangles faced inward (negative signed volume, m³): every triangle was flipped.
-    InsideOut { volume: f64 },
+    /// `shells` shells faced inward (their signed volume, m³) and were no cavity: they were flipped.
+    InsideOut { volume: f64, shells: usize },
+    /// `shells` shells face inward within an outward shell's bounding box: taken as cavities (their
+    /// signed volume, m³, is subtracted).
+    Cavities { shells: usize, volume: f64 },
     /// Triangles with two or three equal corners (after welding) were skipped; `first` is the
     /// index of the first in the file's order.
     Degenerate { count: usize, first: usize },
@@ -52,9 +56,18 @@ pub enum MeshWarning {
 impl std::fmt::Display for MeshWarning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            MeshWarning::InsideOut { volume } => {
-                write!(f, "the triangles face inward (signed volume {volume} m³): flipped all of them to face outward")
+            MeshWarning::InsideOut { volume, shells: 1 } => {
+                write!(f, "the triangles face inward (signed volume {volume} m³): flipped them to face outward")
             }
+            MeshWarning::InsideOut { volume, shells } => write!(
+                f,
+                "{shells} separate shells face inward (signed volume {volume} m³ in all): flipped them to face outward"
+            ),
+            MeshWarning::Cavities { shells, volume } => write!(
+                f,
+                "{shells} shells face inward within the bounding box of another: taken as cavities \
+                 ({volume} m³); if they are separate parts, they are inside out"
+            ),
             MeshWarning::Degenerate { count, first } => write!(
                 f,
                 "{count} degenerate triangles (two equal corners) skipped, the first is triangle {first}: \
@@ -106,17 +119,14 @@ impl TriMesh {
         }
         mesh.check_edges(&mut warnings)?;
         let reference = bounding_box_centre(&mesh.vertices);
-        let (volume, _) = first_moments(&mesh.vertices, &mesh.triangles, reference);
+        let volume = orient_shells(&mesh.vertices, &mut mesh.triangles, reference, &mut warnings);
         let size = extent(&mesh.vertices);
         if !volume.is_finite() {
             return Err(MeshProblem::Overflow { extent: size });
         }
-        if volume.abs() <= 1e-12 * size.powi(3) {
+        // after the shells are oriented, a solid has a clearly positive volume
+        if volume <= 1e-12 * size.powi(3) {
             return Err(MeshProblem::NoVolume { volume, extent: size });
-        }
-        if volume < 0.0 {
-            mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
-            warnings.insert(0, MeshWarning::InsideOut { volume });
         }
         Ok((mesh, warnings))
     }
