@@ -51,7 +51,7 @@ pub enum MeshProblem {
     UnknownFormat(String),
     #[error("the file is empty")]
     Empty,
-    #[error("file too large: {bytes} bytes, the limit is {limit} bytes (see MeshLimits / --max-mesh-bytes)")]
+    #[error("file too large: {bytes} bytes, the limit is {limit} bytes (MeshLimits::max_file_bytes)")]
     FileTooLarge { bytes: u64, limit: u64 },
     #[error("too many triangles: {count}, the limit is {limit} (see MeshLimits / --max-triangles)")]
     TooManyTriangles { count: u64, limit: u64 },
