@@ -113,7 +113,7 @@ fn corners(vertices: &[DVec3], t: &[u32; 3], r: DVec3) -> (DVec3, DVec3, DVec3) 
 }
 
 /// Volume `V = Σ D/6` (m³) and first moment `m₁ = Σ D/24 s` (m⁴) about `r`.
-pub(crate) fn first_moments(vertices: &[DVec3], triangles: &[[u32; 3]], r: DVec3) -> (f64, DVec3) {
+fn first_moments(vertices: &[DVec3], triangles: &[[u32; 3]], r: DVec3) -> (f64, DVec3) {
     let (mut six_v, mut twenty_four_m) = (0.0, DVec3::ZERO);
     for chunk in triangles.chunks(CHUNK) {
         let (mut d_sum, mut ds_sum) = (0.0, DVec3::ZERO);
