@@ -29,6 +29,8 @@ pub enum Command {
     Plot(PlotArgs),
     /// Write a 3D replay of a trajectory: one self-contained HTML file that works offline.
     View(ViewArgs),
+    /// Mass properties of the solid a mesh (.obj, .stl) bounds, as JSON.
+    Mass(MassArgs),
 }
 
 /// `tumble run`.
@@ -128,6 +130,26 @@ pub struct ViewArgs {
 pub struct CheckArgs {
     /// Scene file (.toml or .json).
     pub scene: PathBuf,
+}
+
+/// `tumble mass`.
+#[derive(Debug, Args)]
+pub struct MassArgs {
+    /// Mesh file: .obj, or .stl (binary or ASCII). It must be closed and consistently oriented;
+    /// coordinates are read as metres (see --scale).
+    pub mesh: PathBuf,
+
+    /// Density in kg/m³ [default: 1000, water].
+    #[arg(long, value_name = "RHO", allow_hyphen_values = true)]
+    pub density: Option<f64>,
+
+    /// Multiply every coordinate by S to get metres (e.g. 0.001 for a mesh in millimetres).
+    #[arg(long, value_name = "S", default_value_t = 1.0, allow_hyphen_values = true)]
+    pub scale: f64,
+
+    /// Refuse meshes with more triangles than N [default: 10000000].
+    #[arg(long, value_name = "N")]
+    pub max_triangles: Option<u64>,
 }
 
 fn parse_integrator(name: &str) -> Result<Integrator, String> {

@@ -5,6 +5,7 @@
 //! - [`check`]: `tumble check`: load, validate, describe.
 //! - [`plot`]: `tumble plot` (and `run --plot`): stacked panels over time, SVG or PNG.
 //! - [`view`]: `tumble view` (and `run --view`): a 3D replay in one self-contained HTML file.
+//! - [`mass`]: `tumble mass`: the mass properties of a mesh, as JSON.
 //! - [`output`]: output files, written beside the target and renamed into place.
 //! - [`report`]: the printed summary table and the progress bar.
 //! - [`signal`]: SIGINT/SIGTERM end a run cleanly after the current step.
@@ -18,6 +19,7 @@
 pub mod check;
 pub mod cli;
 pub mod error;
+pub mod mass;
 pub mod output;
 pub mod plot;
 pub mod report;
@@ -46,6 +48,7 @@ pub fn main() -> ExitCode {
         cli::Command::Check(args) => check::check(&args),
         cli::Command::Plot(args) => plot::plot(&args),
         cli::Command::View(args) => view::view(&args),
+        cli::Command::Mass(args) => mass::mass(&args),
     };
     match result {
         Ok(status) => status.into(),

@@ -179,6 +179,9 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     Ok(out)
 }
 
+/// Meshes with more triangles than this are drawn as their inertia-equivalent box.
+const MAX_DRAWN_TRIANGLES: usize = 50_000;
+
 /// The parts of a body (JSON objects, comma-separated), or `None` for a fixed body without a shape
 /// (its mass properties are placeholders: nothing to draw).
 fn parts(body: &RigidBody) -> Option<String> {
@@ -195,8 +198,23 @@ fn parts(body: &RigidBody) -> Option<String> {
             format!("{{\"type\":\"cylinder\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
         }
         Some(Shape::Plane) => "{\"type\":\"plane\"}".to_string(),
+        // a mesh is drawn as its triangles (file axes = body axes, about the centre of mass) while it
+        // stays small enough for the page; a larger one as its inertia-equivalent box
+        Some(Shape::Mesh(ref mesh)) if mesh.mesh.triangles().len() <= MAX_DRAWN_TRIANGLES => {
+            let mut g = String::from("{\"type\":\"mesh\",\"vertices\":[");
+            for (i, v) in mesh.mesh.vertices().iter().enumerate() {
+                g.push_str(if i > 0 { "," } else { "" });
+                g.push_str(&numbers(&v.to_array()));
+            }
+            g.push_str("],\"triangles\":[");
+            for (i, t) in mesh.mesh.triangles().iter().enumerate() {
+                let _ = write!(g, "{}[{},{},{}]", if i > 0 { "," } else { "" }, t[0], t[1], t[2]);
+            }
+            g.push_str("]}");
+            g
+        }
         None if body.fixed => return None,
-        None => {
+        Some(Shape::Mesh(_)) | None => {
             let (half_extents, user_from_body) = derived::inertia_equivalent_box(&body.mass);
             return Some(format!(
                 "{{\"geometry\":{{\"type\":\"box\",\"half_extents\":{}}},\"position\":[0,0,0],\"orientation\":{}}}",

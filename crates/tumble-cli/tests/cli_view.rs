@@ -195,3 +195,28 @@ fn bad_input_is_exit_2_naming_what_is_wrong() {
         .stderr(contains("--plot/--view read the trajectory back, but --out null.csv is not a regular file"));
     assert!(!dir.path().join("x.html").exists());
 }
+
+/// A mesh body is drawn as its own triangles, about its centre of mass.
+#[test]
+fn a_mesh_body_is_drawn_as_its_triangles() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tumble/tests/fixtures/meshes/cube.obj");
+    fs::copy(&fixture, dir.path().join("cube.obj")).unwrap();
+    let scene = "version = 1\n[world]\nduration = 0.1\n\n[[body]]\nname = \"part\"\ndensity = 1000.0\n\
+                 shape = { type = \"mesh\", file = \"cube.obj\" }\nangular_velocity_body = [0.0, 1.0, 0.0]\n";
+    fs::write(dir.path().join("part.toml"), scene).unwrap();
+    tumble(dir.path())
+        .args(["run", "part.toml", "--out", "part.csv", "--view", "part.html", "--quiet"])
+        .assert()
+        .success();
+    let data = data_of(&fs::read_to_string(dir.path().join("part.html")).unwrap());
+    let geometry = &data["bodies"][0]["parts"][0]["geometry"];
+    assert_eq!(geometry["type"], "mesh");
+    let vertices = geometry["vertices"].as_array().unwrap();
+    let triangles = geometry["triangles"].as_array().unwrap();
+    assert_eq!((vertices.len(), triangles.len()), (8, 12), "a cube: 8 corners, 12 triangles");
+    // centred on the centre of mass
+    let centroid: Vec<f64> =
+        (0..3).map(|k| vertices.iter().map(|v| v[k].as_f64().unwrap()).sum::<f64>() / vertices.len() as f64).collect();
+    assert!(centroid.iter().all(|c| c.abs() < 1e-6), "{centroid:?}");
+}

@@ -10,7 +10,7 @@ pub mod mass;
 pub mod shape;
 
 pub use mass::{MassError, MassProperties};
-pub use shape::{Material, Shape};
+pub use shape::{Material, MeshShape, Shape};
 
 use crate::math::{DMat3, DQuat, DVec3};
 

@@ -1,12 +1,15 @@
 //! Shapes a body may have: for mass properties now, for collisions later.
 //!
 //! Every shape is centred on the body's origin in the user's body axes; axes of capsules and
-//! cylinders are body z; a plane's normal is body +z (planes are for fixed bodies only).
+//! cylinders are body z; a plane's normal is body +z (planes are for fixed bodies only); a mesh's
+//! vertices are moved so that its centre of mass is the origin, its axes are the file's.
 
-use crate::math::DVec3;
+use crate::math::{DMat3, DVec3};
+use crate::mesh::{MeshProblem, TriMesh};
+use std::sync::Arc;
 
-/// A primitive shape, dimensions in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A shape, dimensions in metres.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// A ball of radius `radius`.
     Sphere { radius: f64 },
@@ -18,6 +21,50 @@ pub enum Shape {
     Cylinder { radius: f64, half_height: f64 },
     /// The half space below the body's xy plane (normal body +z); fixed bodies only.
     Plane,
+    /// A closed triangle mesh read from a file (shared: copies of a body share one mesh).
+    Mesh(Arc<MeshShape>),
+}
+
+/// A solid bounded by a closed triangle mesh, and its mass properties per unit density.
+///
+/// For collisions the contact code is to use `mesh`: its convex hull (or a convex decomposition)
+/// for a moving body, the triangles themselves for a fixed one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshShape {
+    /// The file as written in the scene.
+    pub file: String,
+    /// The factor applied to the file's coordinates, per axis.
+    pub scale: DVec3,
+    /// The checked mesh (closed, outward), vertices relative to the centre of mass, body axes (m).
+    pub mesh: TriMesh,
+    /// The centre of mass in the file's coordinates after scaling (m): the point of the file that
+    /// sits at the body's `position`.
+    pub center_of_mass_file: DVec3,
+    /// Volume (m³).
+    pub volume: f64,
+    /// Inertia tensor about the centre of mass per unit density, body axes (m⁵).
+    pub inertia_per_density: DMat3,
+    /// Its eigenvalues, ascending (m⁵).
+    pub principal_per_density: DVec3,
+}
+
+impl MeshShape {
+    /// The shape of a checked mesh (m, file axes after scaling): computes its mass properties and
+    /// moves its vertices to the centre of mass.
+    pub fn new(file: impl Into<String>, scale: DVec3, mesh: TriMesh) -> Result<Self, MeshProblem> {
+        let p = mesh.mass_properties(1.0)?;
+        p.body_mass()?;
+        let centred = mesh.map_vertices(|v| v - p.center_of_mass);
+        Ok(Self {
+            file: file.into(),
+            scale,
+            mesh: centred,
+            center_of_mass_file: p.center_of_mass,
+            volume: p.volume,
+            inertia_per_density: p.inertia,
+            principal_per_density: p.principal_moments,
+        })
+    }
 }
 
 impl Shape {
@@ -29,11 +76,13 @@ impl Shape {
             Shape::Capsule { .. } => "capsule",
             Shape::Cylinder { .. } => "cylinder",
             Shape::Plane => "plane",
+            Shape::Mesh(_) => "mesh",
         }
     }
 
     /// Mass (kg) and principal moments about the centre (kg·m², body axes) of the solid shape of
-    /// density `rho` (kg/m³); `None` for a plane, which has no finite volume.
+    /// density `rho` (kg/m³); `None` for a plane, which has no finite volume. A mesh's moments are
+    /// about its principal axes, which need not be the body axes: see [`Shape::inertia_tensor`].
     pub fn mass_properties(&self, rho: f64) -> Option<(f64, DVec3)> {
         use super::mass::{solid_box, solid_capsule, solid_cylinder, solid_sphere};
         match *self {
@@ -42,6 +91,16 @@ impl Shape {
             Shape::Capsule { radius, half_height } => Some(solid_capsule(rho, radius, half_height)),
             Shape::Cylinder { radius, half_height } => Some(solid_cylinder(rho, radius, half_height)),
             Shape::Plane => None,
+            Shape::Mesh(ref m) => Some((rho * m.volume, rho * m.principal_per_density)),
+        }
+    }
+
+    /// Mass (kg) and inertia tensor about the centre of mass in body axes (kg·m²) of the solid
+    /// shape of density `rho` (kg/m³); `None` for a plane. Diagonal for every shape but a mesh.
+    pub fn inertia_tensor(&self, rho: f64) -> Option<(f64, DMat3)> {
+        match self {
+            Shape::Mesh(m) => Some((rho * m.volume, rho * m.inertia_per_density)),
+            _ => self.mass_properties(rho).map(|(mass, moments)| (mass, DMat3::from_diagonal(moments))),
         }
     }
 }

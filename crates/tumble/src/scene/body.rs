@@ -6,14 +6,17 @@
 //! converted here, once, from the user's axes to the principal axes.
 
 use super::error::{nearest, num, nums, SceneError, Source};
-use super::schema::{BodyDoc, Loc, PointForceDoc, Table, Vec3Doc};
+use super::schema::{BodyDoc, Loc, PointForceDoc, ShapeDoc, Table, Vec3Doc};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, MAX_SPEED, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
-use crate::body::{Frame, MassProperties, Material, PointForce, RigidBody, Shape};
+use crate::body::{Frame, MassProperties, Material, MeshShape, PointForce, RigidBody, Shape};
 use crate::math::{DMat3, DQuat, DVec3};
+use crate::mesh::MeshLimits;
 use std::ops::Range;
+use std::path::Path;
+use std::sync::Arc;
 
 /// The shape types, as written in files.
-pub(crate) const SHAPE_TYPES: [&str; 5] = ["sphere", "box", "capsule", "cylinder", "plane"];
+pub(crate) const SHAPE_TYPES: [&str; 6] = ["sphere", "box", "capsule", "cylinder", "plane", "mesh"];
 
 /// Reads one body; errors name `path.key` (e.g. `body[3].mass`).
 pub(crate) struct BodyReader<'r, 'a> {
@@ -80,13 +83,13 @@ impl BodyReader<'_, '_> {
     pub fn read(&mut self, doc: &BodyDoc, name: String) -> Result<RigidBody, SceneError> {
         let fixed = doc.fixed.as_ref().is_some_and(|f| f.value);
         let shape = self.shape(doc)?;
-        if let (Some(Shape::Plane), Some(loc), false) = (shape, &doc.shape, fixed) {
+        if let (Some(Shape::Plane), Some(loc), false) = (&shape, &doc.shape, fixed) {
             return Err(self
                 .err("shape", loc, "a plane is for fixed bodies only (it has no finite volume or mass)")
                 .got("type = \"plane\" on a body with fixed = false")
                 .hint("set `fixed = true` on this body"));
         }
-        let mass = self.mass_properties(doc, shape, fixed, &name)?;
+        let mass = self.mass_properties(doc, shape.as_ref(), fixed, &name)?;
         let mut body = RigidBody::new(name, mass);
         body.fixed = fixed;
         body.shape = shape;
@@ -107,7 +110,7 @@ impl BodyReader<'_, '_> {
         Ok(body)
     }
 
-    fn shape(&self, doc: &BodyDoc) -> Result<Option<Shape>, SceneError> {
+    fn shape(&mut self, doc: &BodyDoc) -> Result<Option<Shape>, SceneError> {
         let Some(loc) = &doc.shape else { return Ok(None) };
         let s = &loc.value;
         let kind = s.kind.value.as_str();
@@ -116,6 +119,7 @@ impl BodyReader<'_, '_> {
             "box" => &["half_extents"],
             "capsule" | "cylinder" => &["radius", "half_height"],
             "plane" => &[],
+            "mesh" => &["file", "scale"],
             _ => {
                 let e = self.err("shape.type", &s.kind, "unknown shape type").got(format!("\"{kind}\""));
                 let list = SHAPE_TYPES.join(", ");
@@ -129,6 +133,8 @@ impl BodyReader<'_, '_> {
             ("radius", s.radius.as_ref().map(|l| &l.span)),
             ("half_extents", s.half_extents.as_ref().map(|l| &l.span)),
             ("half_height", s.half_height.as_ref().map(|l| &l.span)),
+            ("file", s.file.as_ref().map(|l| &l.span)),
+            ("scale", s.scale.as_ref().map(|l| &l.span)),
         ];
         for (key, span) in given {
             if let (Some(span), false) = (span, takes.contains(&key)) {
@@ -138,6 +144,9 @@ impl BodyReader<'_, '_> {
                     .error(span.as_ref(), self.at(&format!("shape.{key}")), format!("a {kind} has no `{key}`"))
                     .hint(format!("a {kind} takes: {takes}")));
             }
+        }
+        if kind == "mesh" {
+            return self.mesh(s, loc).map(Some);
         }
         let size = |key: &str, l: &Option<Loc<f64>>| -> Result<f64, SceneError> {
             let Some(l) = l else {
@@ -175,12 +184,35 @@ impl BodyReader<'_, '_> {
         }))
     }
 
+    /// `shape = { type = "mesh", file = "...", scale = ... }`: the file is read, checked and measured
+    /// now; a relative path is taken from the scene file's directory. The mesh's warnings (an
+    /// inside-out mesh flipped, ...) become the scene's.
+    fn mesh(&mut self, s: &ShapeDoc, loc: &Loc<Table<ShapeDoc>>) -> Result<Shape, SceneError> {
+        let Some(file) = &s.file else {
+            return Err(self.err("shape", loc, "a mesh needs `file` (an .obj or .stl file)"));
+        };
+        let scale = s.scale.as_ref().map_or([1.0; 3], |l| l.value.0);
+        if let (Some(l), false) = (&s.scale, scale.iter().all(|x| x.is_finite() && *x > 0.0)) {
+            return Err(self.err("shape.scale", l, "mesh scale must be finite and > 0").got(nums(&scale)));
+        }
+        let path = Path::new(self.src.origin).parent().unwrap_or(Path::new("")).join(&file.value);
+        let loaded = crate::mesh::load(&path, scale, &MeshLimits::default())
+            .map_err(|e| self.err("shape.file", file, e.to_string()))?;
+        let shape = MeshShape::new(file.value.clone(), DVec3::from_array(scale), loaded.mesh)
+            .map_err(|e| self.err("shape.file", file, format!("{}: {e}", path.display())))?;
+        for w in loaded.warnings {
+            let text = format!("{}: {w}", path.display());
+            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("shape.file"), &text));
+        }
+        Ok(Shape::Mesh(Arc::new(shape)))
+    }
+
     /// The mass rules: `density` + shape → both; `mass` + `inertia`/`inertia_tensor` → as given;
     /// `mass` + shape → the shape's inertia scaled to the mass; fixed bodies need neither (placeholder).
     fn mass_properties(
         &self,
         doc: &BodyDoc,
-        shape: Option<Shape>,
+        shape: Option<&Shape>,
         fixed: bool,
         name: &str,
     ) -> Result<MassProperties, SceneError> {
@@ -218,13 +250,13 @@ impl BodyReader<'_, '_> {
                     "`density` computes the inertia from the shape; give `{inertia_key}` with `mass` instead"
                 )));
             }
-            let Some((m, moments)) = shape.and_then(|s| s.mass_properties(rho)) else {
+            let Some((m, tensor)) = shape.and_then(|s| s.inertia_tensor(rho)) else {
                 let why = if shape.is_some() { "a plane has no volume" } else { "there is no shape" };
-                return Err(self
-                    .err("density", l, format!("cannot compute a mass from a density: {why}"))
-                    .hint("give a shape with a volume (sphere, box, capsule, cylinder), or `mass` and `inertia`"));
+                return Err(self.err("density", l, format!("cannot compute a mass from a density: {why}")).hint(
+                    "give a shape with a volume (sphere, box, capsule, cylinder, mesh), or `mass` and `inertia`",
+                ));
             };
-            return MassProperties::from_principal(m, moments)
+            return MassProperties::from_tensor(m, tensor)
                 .map_err(|e| self.err("density", l, format!("gives unusable mass properties: {e}")).got(num(rho)));
         }
         if let (Some(m), Some(l)) = (mass, &doc.mass) {
@@ -241,9 +273,9 @@ impl BodyReader<'_, '_> {
                 let tensor_user = DMat3::from_cols_array_2d(&rows).transpose();
                 return MassProperties::from_tensor(m, tensor_user).map_err(|e| inertia_err(e.to_string()));
             }
-            return match shape.and_then(|s| s.mass_properties(1.0)) {
+            return match shape.and_then(|s| s.inertia_tensor(1.0)) {
                 // the shape's inertia at unit density, scaled to the given mass
-                Some((m1, moments1)) => MassProperties::from_principal(m, moments1 * (m / m1)).map_err(|e| {
+                Some((m1, tensor1)) => MassProperties::from_tensor(m, tensor1 * (m / m1)).map_err(|e| {
                     self.err("mass", l, format!("with this shape gives unusable inertia: {e}")).got(num(m))
                 }),
                 None => Err(self.err("mass", l, "there is no inertia for this mass").hint(

@@ -109,14 +109,22 @@ fn describe_body(out: &mut String, b: &RigidBody) {
             v3(user_from_body * s.omega_body)
         );
     }
-    if let Some(shape) = b.shape {
-        let size = match shape {
+    if let Some(shape) = &b.shape {
+        let size = match *shape {
             Shape::Sphere { radius } => format!("radius {} m", g(radius)),
             Shape::Box { half_extents } => format!("half extents {} m", v3(half_extents)),
             Shape::Capsule { radius, half_height } | Shape::Cylinder { radius, half_height } => {
                 format!("radius {} m, half height {} m", g(radius), g(half_height))
             }
             Shape::Plane => "normal +z (body axes)".to_string(),
+            Shape::Mesh(ref m) => format!(
+                "{}: {} triangles, volume {} m³, centre of mass at {} m in the file's axes × scale {}",
+                m.file,
+                m.mesh.triangles().len(),
+                g(m.volume),
+                v3(m.center_of_mass_file),
+                v3(m.scale)
+            ),
         };
         let _ = writeln!(out, "  shape        {} ({size})", shape.type_name());
     }

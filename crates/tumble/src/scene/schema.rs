@@ -182,6 +182,39 @@ pub struct ShapeDoc {
     pub half_extents: Option<Vec3Doc>,
     /// m (capsule, cylinder).
     pub half_height: Option<Loc<f64>>,
+    /// Mesh file (.obj, .stl), relative to the scene file's directory (mesh).
+    pub file: Option<Loc<String>>,
+    /// Factor on the mesh file's coordinates: one number or one per axis (mesh).
+    pub scale: Option<Loc<ScaleDoc>>,
+}
+
+/// `scale = 0.001` or `scale = [sx, sy, sz]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScaleDoc(pub [f64; 3]);
+
+impl<'de> Deserialize<'de> for ScaleDoc {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ScaleVisitor;
+        impl<'de> serde::de::Visitor<'de> for ScaleVisitor {
+            type Value = ScaleDoc;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an array of three numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<ScaleDoc, E> {
+                Ok(ScaleDoc([x; 3]))
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<ScaleDoc, E> {
+                Ok(ScaleDoc([x as f64; 3]))
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<ScaleDoc, E> {
+                Ok(ScaleDoc([x as f64; 3]))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<ScaleDoc, A::Error> {
+                <[f64; 3]>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq)).map(ScaleDoc)
+            }
+        }
+        deserializer.deserialize_any(ScaleVisitor)
+    }
 }
 
 /// `[[body.point_force]]`.

@@ -1,0 +1,122 @@
+//! Mesh-shaped bodies in scenes: `shape = { type = "mesh", file = "...", scale = ... }`.
+
+mod mesh_common;
+
+use mesh_common::{close, max_abs};
+use std::path::{Path, PathBuf};
+use tumble::body::Shape;
+use tumble::math::DVec3;
+use tumble::mesh::{self, MeshLimits};
+use tumble::scene;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/meshes").join(name)
+}
+
+/// A scene file `scene.toml` beside copies of the named fixtures, in a fresh directory.
+fn scene_with(meshes: &[&str], text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    for name in meshes {
+        std::fs::copy(fixture(name), dir.path().join(name)).unwrap();
+    }
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+fn load_err(path: &Path) -> String {
+    scene::load(path).unwrap_err().to_string()
+}
+
+#[test]
+fn density_and_a_mesh_give_the_meshs_mass_properties() {
+    let text =
+        "version = 1\n[[body]]\nname = \"part\"\ndensity = 500.0\nshape = { type = \"mesh\", file = \"torus.obj\" }\n";
+    let (_dir, path) = scene_with(&["torus.obj"], text);
+    let loaded = scene::load(&path).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let body = &loaded.world.bodies[0];
+    let p = mesh::mass_properties_of_file(&fixture("torus.obj"), [1.0; 3], 500.0, &MeshLimits::default()).unwrap().0;
+    close("mass", body.mass.mass, p.mass, 1e-15, p.mass);
+    // the tensor in the user's (mesh) axes is the mesh's, diagonalised once
+    assert!(max_abs(body.mass.inertia_user() - p.inertia) <= 1e-13 * max_abs(p.inertia));
+    let Some(Shape::Mesh(shape)) = &body.shape else { panic!("{:?}", body.shape) };
+    assert_eq!(shape.center_of_mass_file, p.center_of_mass);
+    // the body's mesh is centred on the centre of mass
+    let centred = shape.mesh.mass_properties(1.0).unwrap();
+    assert!(centred.center_of_mass.length() < 1e-14, "{:?}", centred.center_of_mass);
+    assert!(loaded.describe().contains("torus.obj: 2304 triangles"), "{}", loaded.describe());
+    let mut world = loaded.world;
+    world.step().unwrap();
+}
+
+#[test]
+fn mass_and_a_mesh_scale_the_meshs_inertia_and_scale_multiplies_coordinates() {
+    let text = "version = 1\n[[body]]\nname = \"a\"\nmass = 2.0\nshape = { type = \"mesh\", file = \"cube.obj\", scale = 0.5 }\n\
+                [[body]]\nname = \"b\"\ndensity = 1.0\nshape = { type = \"mesh\", file = \"cube.obj\", scale = [1, 2, 3] }\n";
+    let (_dir, path) = scene_with(&["cube.obj"], text);
+    let world = scene::load(&path).unwrap().world;
+    // a cube of side 0.5 and mass 2: I = m s²/6
+    for k in 0..3 {
+        close("inertia", world.bodies[0].mass.inertia_body[k], 2.0 * 0.25 / 6.0, 1e-15, 1.0);
+    }
+    assert_eq!(world.bodies[1].mass.mass, 6.0);
+    let Some(Shape::Mesh(shape)) = &world.bodies[1].shape else { panic!() };
+    assert_eq!(shape.center_of_mass_file, DVec3::new(0.5, 1.0, 1.5));
+}
+
+#[test]
+fn a_bad_mesh_is_an_error_at_the_file_key() {
+    let text =
+        "version = 1\n[[body]]\nname = \"part\"\ndensity = 1.0\nshape = { type = \"mesh\", file = \"open_box.obj\" }\n";
+    let (_dir, path) = scene_with(&["open_box.obj"], text);
+    let e = load_err(&path);
+    assert!(e.starts_with(&format!("{}:5:", path.display())), "{e}");
+    assert!(e.contains("body[0].shape.file") && e.contains("open_box.obj") && e.contains("4 open edges"), "{e}");
+    let text =
+        "version = 1\n[[body]]\nname = \"part\"\ndensity = 1.0\nshape = { type = \"mesh\", file = \"nowhere.stl\" }\n";
+    let (_dir, path) = scene_with(&[], text);
+    assert!(load_err(&path).contains("cannot read"), "{}", load_err(&path));
+}
+
+#[test]
+fn an_inside_out_mesh_is_a_scene_warning() {
+    let text = "version = 1\n[[body]]\nname = \"part\"\ndensity = 1.0\nshape = { type = \"mesh\", file = \"inside_out.stl\" }\n";
+    let (_dir, path) = scene_with(&["inside_out.stl"], text);
+    let loaded = scene::load(&path).unwrap();
+    assert_eq!(loaded.warnings.len(), 1);
+    assert!(
+        loaded.warnings[0].contains("body[0].shape.file") && loaded.warnings[0].contains("flipped"),
+        "{:?}",
+        loaded.warnings
+    );
+    assert_eq!(loaded.world.bodies[0].mass.mass, 1.0);
+}
+
+#[test]
+fn mesh_keys_are_checked() {
+    let cases = [
+        ("{ type = \"mesh\" }", "a mesh needs `file`"),
+        ("{ type = \"mesh\", file = \"cube.obj\", scale = -1.0 }", "mesh scale must be finite and > 0"),
+        ("{ type = \"mesh\", file = \"cube.obj\", scale = [1, 2] }", "body[0].shape.scale"),
+        ("{ type = \"mesh\", file = \"cube.obj\", radius = 1.0 }", "a mesh has no `radius`"),
+        ("{ type = \"box\", half_extents = [1, 1, 1], file = \"cube.obj\" }", "a box has no `file`"),
+        ("{ type = \"mesh\", file = 3 }", "body[0].shape.file"),
+    ];
+    for (shape, expected) in cases {
+        let text = format!("version = 1\n[[body]]\nname = \"p\"\ndensity = 1.0\nshape = {shape}\n");
+        let (_dir, path) = scene_with(&["cube.obj"], &text);
+        let e = load_err(&path);
+        assert!(e.contains(expected), "{shape}: {e}");
+    }
+}
+
+#[test]
+fn json_scenes_take_meshes_too() {
+    let text = r#"{"version": 1, "body": [{"name": "p", "density": 2.0, "shape": {"type": "mesh", "file": "cube.stl", "scale": 2}}]}"#;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixture("cube.stl"), dir.path().join("cube.stl")).unwrap();
+    let path = dir.path().join("scene.json");
+    std::fs::write(&path, text).unwrap();
+    assert_eq!(scene::load(&path).unwrap().world.bodies[0].mass.mass, 16.0);
+}
