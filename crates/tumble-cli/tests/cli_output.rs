@@ -54,8 +54,10 @@ fn the_table_reports_the_run_and_the_demo_flips() {
     ] {
         assert!(stdout.contains(label), "{label} missing from:\n{stdout}");
     }
-    // flips every 5.03 s, the first at 2.5 s: two in 12 s; the stable spin never flips
-    assert!(stdout.contains("flipper 2, stable 0"), "{stdout}");
+    // flips every 6.45 s, the first at 3.7 s: two in 12 s, the mean interval and the exact one given;
+    // the stable spin never flips
+    assert!(stdout.contains("flipper 2 (every 6.4"), "{stdout}");
+    assert!(stdout.contains("exact 2K/λ = 6.4506 s), stable 0"), "{stdout}");
     assert!(stdout.contains("12000"), "{stdout}");
     assert!(!stdout.to_lowercase().contains("nan"), "{stdout}");
 }
