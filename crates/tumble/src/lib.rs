@@ -7,6 +7,7 @@
 //! - [`world`]: the world and its step.
 //! - [`scene`]: scene files (TOML/JSON) → [`world::World`], with precise errors.
 //! - [`trajectory`]: CSV and JSON Lines trajectories, the run summary.
+//! - [`multibody`]: articulated bodies (spatial algebra, RNEA, CRBA, ABA, URDF).
 //! - [`analytic`]: exact solutions used as references (torque-free tops, Jacobi elliptic functions).
 //!
 //! Conventions: SI units, `f64`, world z up, quaternions `world_from_body` written `[w, x, y, z]` in
@@ -17,6 +18,7 @@ pub mod analytic;
 pub mod body;
 pub mod integrate;
 pub mod math;
+pub mod multibody;
 pub mod scene;
 pub mod trajectory;
 pub mod world;
