@@ -47,5 +47,5 @@ pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{Body, Frame, Joint, ModelBuilder, ModelError, MultibodyModel};
 pub use rnea::{bias_forces, rnea};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
-pub use urdf::{load_urdf, parse_urdf, UrdfError, UrdfErrorKind, UrdfOptions};
+pub use urdf::{load_urdf, parse_urdf, ChildOrder, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, Workspace};

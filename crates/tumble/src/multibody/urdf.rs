@@ -9,14 +9,19 @@
 //! - `fixed` joints are merged: the child's inertia is added to the body it is fixed to and the
 //!   child stays a named frame.
 //! - Joint order: depth-first from the root link, children in the order their joints appear in the
-//!   file. Iterative: a chain of 10⁵ links does not grow the call stack.
+//!   file ([`ChildOrder::File`], the default) or sorted by joint name ([`ChildOrder::JointName`], the
+//!   order Pinocchio's reader produces). Iterative: a chain of 10⁵ links does not grow the call stack.
 //! - With `floating`, a `floating` joint named `root_joint` connects the world to the root link.
 //!
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
 //! non-finite axes, revolute/prismatic joints without `<limit>` or with `lower > upper`, masses that
-//! are not finite and positive, inertias that are not positive definite or violate the triangle
+//! are negative or not finite, inertias that are not positive definite or violate the triangle
 //! inequality, and movable joints whose subtree has no mass.
+//!
+//! Two cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
+//! (a frame, like `ee_link` of UR5 or `panda_link8`), and `mass > 0` with an all-zero tensor is a point
+//! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
 
 use super::joint::{JointKind, JointLimits};
 use super::model::{ModelBuilder, ModelError, MultibodyModel};
@@ -87,7 +92,7 @@ pub enum UrdfErrorKind {
     MissingLimit(String),
     #[error("limit: {0}")]
     BadLimit(String),
-    #[error("mass must be finite and > 0 (got {0})")]
+    #[error("mass must be finite and ≥ 0, and > 0 when an inertia tensor is given (got {0})")]
     BadMass(f64),
     #[error("inertia of link '{link}': {reason}")]
     BadInertia { link: String, reason: String },
@@ -102,6 +107,19 @@ pub enum UrdfErrorKind {
 pub struct UrdfOptions {
     /// Connect the root link to the world by a floating joint (a free-flyer base).
     pub floating: bool,
+    /// The order of a link's children in the depth-first joint numbering.
+    pub order: ChildOrder,
+}
+
+/// The order in which the depth-first numbering visits a link's children.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChildOrder {
+    /// The order in which their joints appear in the file (the default).
+    #[default]
+    File,
+    /// Sorted by joint name (byte order). This is the order Pinocchio's URDF reader produces (it
+    /// keeps joints in a map sorted by name), so `q` and `v` then line up with Pinocchio's.
+    JointName,
 }
 
 /// Reads and parses a URDF file.
@@ -296,6 +314,11 @@ impl<'a, 'input> Parser<'a, 'input> {
         for (j, joint) in joints.iter().enumerate() {
             children[joint.parent].push(j);
         }
+        if options.order == ChildOrder::JointName {
+            for list in children.iter_mut() {
+                list.sort_by(|&a, &b| joints[a].name.cmp(joints[b].name));
+            }
+        }
         let Some(&root_link) = roots.first() else {
             let (path, node) = cycle_from(0, &links, &joints, &parent_joint);
             return Err(self.error(node, UrdfErrorKind::Cycle(path)));
@@ -376,7 +399,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             child(inertial, "mass").ok_or_else(|| self.error(inertial, UrdfErrorKind::MissingElement("mass")))?;
         let mass = match mass_node.attribute("value").map(|t| t.trim().parse::<f64>()) {
             None => return Err(self.error(mass_node, UrdfErrorKind::MissingAttribute("value"))),
-            Some(Ok(m)) if m.is_finite() && m > 0.0 => m,
+            Some(Ok(m)) if m.is_finite() && m >= 0.0 => m,
             Some(Ok(m)) => return Err(self.error(mass_node, UrdfErrorKind::BadMass(m))),
             Some(Err(_)) => return Err(self.error(mass_node, UrdfErrorKind::BadMass(f64::NAN))),
         };
@@ -390,6 +413,13 @@ impl<'a, 'input> Parser<'a, 'input> {
         let iyz = self.number(node, "iyz", Some(0.0))?;
         let izz = self.number(node, "izz", None)?;
         let tensor = DMat3::from_cols(DVec3::new(ixx, ixy, ixz), DVec3::new(ixy, iyy, iyz), DVec3::new(ixz, iyz, izz));
+        if tensor == DMat3::ZERO {
+            // mass 0 and no tensor: a massless link (a frame); mass > 0 and no tensor: a point mass
+            return Ok(RigidInertia::from_com(mass, com, DMat3::ZERO));
+        }
+        if mass == 0.0 {
+            return Err(self.error(mass_node, UrdfErrorKind::BadMass(mass)));
+        }
         // positive definite and the triangle inequality, on the eigenvalues
         MassProperties::from_tensor(mass, tensor)
             .map_err(|e| self.error(node, UrdfErrorKind::BadInertia { link: name.into(), reason: e.to_string() }))?;
