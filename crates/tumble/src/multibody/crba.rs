@@ -13,15 +13,25 @@
 
 use super::fk::placements;
 use super::model::MultibodyModel;
-use super::workspace::{check_len, LengthError, Workspace};
+use super::workspace::{check_len, ensure_square, LengthError, TooLarge, Workspace};
 
-/// Computes `M(q)` into `ws.mass_matrix` and returns it.
+/// Why the mass matrix could not be computed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CrbaError {
+    #[error(transparent)]
+    Length(#[from] LengthError),
+    #[error(transparent)]
+    TooLarge(#[from] TooLarge),
+}
+
+/// Computes `M(q)` into `ws.mass_matrix` and returns it (the matrix is allocated on the first call).
 pub fn crba<'w>(
     model: &MultibodyModel,
     ws: &'w mut Workspace,
     q: &[f64],
-) -> Result<&'w nalgebra::DMatrix<f64>, LengthError> {
+) -> Result<&'w nalgebra::DMatrix<f64>, CrbaError> {
     check_len("q", q.len(), model.nq())?;
+    ensure_square(&mut ws.mass_matrix, model.nv())?;
     placements(model, ws, q);
     let n = model.nbodies();
     for (i, body) in model.bodies.iter().enumerate() {

@@ -17,6 +17,8 @@ use super::workspace::{check_len, LengthError, Workspace};
 pub enum FactorError {
     #[error("the mass matrix is not positive definite (pivot {pivot:e} at velocity coordinate {dof})")]
     NotPositiveDefinite { dof: usize, pivot: f64 },
+    #[error("the mass matrix has not been computed (call crba first)")]
+    NoMassMatrix,
     #[error(transparent)]
     Length(#[from] LengthError),
 }
@@ -24,6 +26,13 @@ pub enum FactorError {
 /// Factorises `ws.mass_matrix` into `ws.ltdl` (`L` strictly below the diagonal, `D` on it).
 pub fn ltdl_factor(model: &MultibodyModel, ws: &mut Workspace) -> Result<(), FactorError> {
     let nv = model.nv();
+    if ws.mass_matrix.nrows() != nv || ws.mass_matrix.ncols() != nv {
+        return Err(FactorError::NoMassMatrix);
+    }
+    if ws.ltdl.nrows() != nv || ws.ltdl.ncols() != nv {
+        // same size as the mass matrix, which was allowed: allocate once
+        ws.ltdl = ws.mass_matrix.clone();
+    }
     let h = &mut ws.ltdl;
     h.copy_from(&ws.mass_matrix);
     for k in (0..nv).rev() {
@@ -53,6 +62,7 @@ pub fn ltdl_factor(model: &MultibodyModel, ws: &mut Workspace) -> Result<(), Fac
 pub fn ltdl_solve(model: &MultibodyModel, ws: &Workspace, b: &mut [f64]) -> Result<(), LengthError> {
     let nv = model.nv();
     check_len("b", b.len(), nv)?;
+    check_len("LTDL factors (call ltdl_factor first)", ws.ltdl.nrows(), nv)?;
     let h = &ws.ltdl;
     // Lᵀ z = b, from the leaves: z_k is final once every descendant is done
     for k in (0..nv).rev() {

@@ -38,7 +38,7 @@ pub mod urdf;
 pub mod workspace;
 
 pub use aba::{aba, AbaError};
-pub use crba::crba;
+pub use crba::{crba, CrbaError};
 pub use energy::{center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
@@ -48,4 +48,4 @@ pub use model::{Body, Frame, Joint, ModelBuilder, ModelError, MultibodyModel};
 pub use rnea::{bias_forces, rnea};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, UrdfError, UrdfErrorKind, UrdfOptions};
-pub use workspace::{LengthError, Workspace};
+pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};

@@ -18,6 +18,27 @@ pub struct LengthError {
     pub got: usize,
 }
 
+/// The largest `nv` for which a dense `nv × nv` matrix is allocated (8 · 16384² bytes = 2 GiB).
+pub const MAX_DENSE_NV: usize = 16_384;
+
+/// A dense `nv × nv` matrix the workspace will not allocate.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("a dense {nv} × {nv} matrix is too large (at most {MAX_DENSE_NV} degrees of freedom); use ABA and RNEA")]
+pub struct TooLarge {
+    pub nv: usize,
+}
+
+/// Makes `m` an `nv × nv` matrix (allocating on the first call only).
+pub(crate) fn ensure_square(m: &mut DMatrix<f64>, nv: usize) -> Result<(), TooLarge> {
+    if m.nrows() != nv || m.ncols() != nv {
+        if nv > MAX_DENSE_NV {
+            return Err(TooLarge { nv });
+        }
+        *m = DMatrix::zeros(nv, nv);
+    }
+    Ok(())
+}
+
 /// Checks the length of one argument.
 #[inline]
 pub(crate) fn check_len(what: &'static str, got: usize, expected: usize) -> Result<(), LengthError> {
@@ -53,9 +74,12 @@ pub struct Workspace {
     pub u: Vec<f64>,
     /// `D⁻¹ = (Sᵀ U)⁻¹` per joint, packed `nv_j × nv_j` blocks (row-major).
     pub d_inv: Vec<f64>,
-    /// The joint-space mass matrix `M` (CRBA), `nv × nv`.
+    /// The joint-space mass matrix `M` (CRBA), `nv × nv`; allocated by the first call of
+    /// [`crba`](super::crba::crba) (empty before), so that models too large for a dense `M` can still
+    /// use the `O(n)` algorithms.
     pub mass_matrix: DMatrix<f64>,
-    /// The LTDL factors of `M` (unit lower `L` below the diagonal, `D` on it).
+    /// The LTDL factors of `M` (unit lower `L` below the diagonal, `D` on it); allocated by the first
+    /// factorisation.
     pub ltdl: DMatrix<f64>,
     /// Scratch of length `nv`.
     pub tmp: Vec<f64>,
@@ -78,8 +102,8 @@ impl Workspace {
             u_cols: vec![Force::ZERO; nv],
             u: vec![0.0; nv],
             d_inv: vec![0.0; model.block_len()],
-            mass_matrix: DMatrix::zeros(nv, nv),
-            ltdl: DMatrix::zeros(nv, nv),
+            mass_matrix: DMatrix::zeros(0, 0),
+            ltdl: DMatrix::zeros(0, 0),
             tmp: vec![0.0; nv],
         }
     }
