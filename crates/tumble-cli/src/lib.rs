@@ -3,6 +3,8 @@
 //! - [`cli`]: the command line (clap).
 //! - [`run`]: `tumble run`: load, validate, open the outputs, simulate, report.
 //! - [`check`]: `tumble check`: load, validate, describe.
+//! - [`model`]: `tumble model`: the joint layout of a URDF robot.
+//! - [`dynamics`]: `tumble dynamics`: mass matrix, bias, forward and inverse dynamics; `--bench`.
 //! - [`output`]: output files, written beside the target and renamed into place.
 //! - [`report`]: the printed summary table and the progress bar.
 //! - [`signal`]: SIGINT/SIGTERM end a run cleanly after the current step.
@@ -15,7 +17,9 @@
 
 pub mod check;
 pub mod cli;
+pub mod dynamics;
 pub mod error;
+pub mod model;
 pub mod output;
 pub mod report;
 pub mod run;
@@ -40,6 +44,8 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         cli::Command::Run(args) => run::run(&args),
         cli::Command::Check(args) => check::check(&args),
+        cli::Command::Model(args) => model::model(&args),
+        cli::Command::Dynamics(args) => dynamics::dynamics(&args),
     };
     match result {
         Ok(status) => status.into(),

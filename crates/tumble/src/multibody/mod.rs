@@ -44,7 +44,7 @@ pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
 pub use joint::{JointKind, JointLimits};
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
-pub use model::{Body, Frame, Joint, ModelBuilder, ModelError, MultibodyModel};
+pub use model::{Body, Frame, FrameOrigin, Joint, ModelBuilder, ModelError, MultibodyModel};
 pub use rnea::{bias_forces, rnea};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, UrdfError, UrdfErrorKind, UrdfOptions};

@@ -62,7 +62,7 @@ pub struct Body {
     pub inertia: RigidInertia,
 }
 
-/// A named frame fixed to a body (every link of the source, merged or not).
+/// A named frame fixed to a body (every link of the source, merged or not), in depth-first order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {
     /// The link's name.
@@ -71,6 +71,24 @@ pub struct Frame {
     pub body: Option<usize>,
     /// `frame_X_body`: the frame's placement in the body's (or the world's) frame.
     pub x_from_body: Xform,
+    /// How the frame is attached.
+    pub origin: FrameOrigin,
+}
+
+/// How a frame is attached to the tree.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FrameOrigin {
+    /// The root link of a fixed base (fixed to the world).
+    Root,
+    /// The frame of a body, moved by that body's joint.
+    Body(usize),
+    /// A link attached by a fixed joint, merged into the body it is fixed to.
+    Fixed {
+        /// The fixed joint's name.
+        joint: String,
+        /// The link on the other side of the fixed joint.
+        parent_link: String,
+    },
 }
 
 /// The immutable model: the tree, joints, inertias and gravity.
@@ -261,7 +279,12 @@ impl ModelBuilder {
         self.nq += kind.nq();
         self.nv += kind.nv();
         let index = self.bodies.len();
-        self.frames.push(Frame { name: name.clone(), body: Some(index), x_from_body: Xform::IDENTITY });
+        self.frames.push(Frame {
+            name: name.clone(),
+            body: Some(index),
+            x_from_body: Xform::IDENTITY,
+            origin: FrameOrigin::Body(index),
+        });
         self.bodies.push(Body { name, parent, joint, inertia });
         Ok(index)
     }
@@ -282,8 +305,15 @@ impl ModelBuilder {
     }
 
     /// Adds a named frame fixed to `body` (`None`: the world) at `frame_X_body`.
-    pub fn add_frame(&mut self, name: impl Into<String>, body: Option<usize>, x_from_body: Xform) {
-        self.frames.push(Frame { name: name.into(), body, x_from_body });
+    pub fn add_frame(&mut self, name: impl Into<String>, body: Option<usize>, x_from_body: Xform, origin: FrameOrigin) {
+        self.frames.push(Frame { name: name.into(), body, x_from_body, origin });
+    }
+
+    /// Names the link on the parent side of body `index`'s joint (by default the parent body's name).
+    pub fn set_parent_link(&mut self, index: usize, parent_link: impl Into<String>) {
+        if let Some(b) = self.bodies.get_mut(index) {
+            b.joint.parent_link = parent_link.into();
+        }
     }
 
     /// Records a non-fatal remark.

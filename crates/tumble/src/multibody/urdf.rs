@@ -24,7 +24,7 @@
 //! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
 
 use super::joint::{JointKind, JointLimits};
-use super::model::{ModelBuilder, ModelError, MultibodyModel};
+use super::model::{FrameOrigin, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
 use crate::body::MassProperties;
 use crate::math::{DMat3, DVec3};
@@ -47,8 +47,8 @@ pub struct UrdfError {
     pub column: u32,
     /// The element concerned, e.g. `joint name="elbow"`.
     pub element: String,
-    /// What is wrong.
-    pub kind: UrdfErrorKind,
+    /// What is wrong (boxed: errors stay small on the happy path).
+    pub kind: Box<UrdfErrorKind>,
 }
 
 /// What is wrong in a URDF file.
@@ -125,7 +125,8 @@ pub enum ChildOrder {
 /// Reads and parses a URDF file.
 pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
     let file = path.display().to_string();
-    let whole_file = |kind| UrdfError { file: file.clone(), line: 0, column: 0, element: "robot".into(), kind };
+    let whole_file =
+        |kind| UrdfError { file: file.clone(), line: 0, column: 0, element: "robot".into(), kind: Box::new(kind) };
     let meta = std::fs::metadata(path).map_err(|e| whole_file(UrdfErrorKind::Io(e.to_string())))?;
     if meta.len() > MAX_URDF_BYTES {
         return Err(whole_file(UrdfErrorKind::TooLarge { size: meta.len(), limit: MAX_URDF_BYTES }));
@@ -143,7 +144,7 @@ pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<Multib
             line: pos.row,
             column: pos.col,
             element: "xml".into(),
-            kind: UrdfErrorKind::Xml(e.to_string()),
+            kind: Box::new(UrdfErrorKind::Xml(e.to_string())),
         }
     })?;
     Parser { doc: &doc, file }.robot(options)
@@ -185,7 +186,13 @@ fn describe(node: Node) -> String {
 impl<'a, 'input> Parser<'a, 'input> {
     fn error(&self, node: Node, kind: UrdfErrorKind) -> UrdfError {
         let pos = self.doc.text_pos_at(node.range().start);
-        UrdfError { file: self.file.into(), line: pos.row, column: pos.col, element: describe(node), kind }
+        UrdfError {
+            file: self.file.into(),
+            line: pos.row,
+            column: pos.col,
+            element: describe(node),
+            kind: Box::new(kind),
+        }
     }
 
     fn line(&self, node: Node) -> u32 {
@@ -342,11 +349,10 @@ impl<'a, 'input> Parser<'a, 'input> {
             Some(b)
         } else {
             builder.add_inertia(None, links[root_link].inertia);
-            builder.add_frame(links[root_link].name, None, Xform::IDENTITY);
+            builder.add_frame(links[root_link].name, None, Xform::IDENTITY, FrameOrigin::Root);
             None
         };
         link_body[root_link] = Some((root_body, Xform::IDENTITY));
-        let mut joint_of_body: Vec<usize> = Vec::new();
         let mut stack: Vec<usize> = children[root_link].iter().rev().copied().collect();
         while let Some(j) = stack.pop() {
             let joint = &joints[j];
@@ -359,7 +365,11 @@ impl<'a, 'input> Parser<'a, 'input> {
                     // fixed: the child link is part of the parent's body
                     let inertia_in_body = child_link.inertia.transform_to_a(&x_tree);
                     builder.add_inertia(parent_body, inertia_in_body);
-                    builder.add_frame(child_link.name, parent_body, x_tree);
+                    let origin = FrameOrigin::Fixed {
+                        joint: joint.name.to_string(),
+                        parent_link: links[joint.parent].name.to_string(),
+                    };
+                    builder.add_frame(child_link.name, parent_body, x_tree, origin);
                     link_body[joint.child] = Some((parent_body, x_tree));
                 }
                 Some(kind) => {
@@ -367,7 +377,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         .add_body(child_link.name, parent_body, joint.name, kind, x_tree, child_link.inertia)
                         .map_err(|e| self.error(joint.node, UrdfErrorKind::Model(e)))?;
                     builder.set_limits(b, joint.limits);
-                    joint_of_body.push(j);
+                    builder.set_parent_link(b, links[joint.parent].name);
                     link_body[joint.child] = Some((Some(b), Xform::IDENTITY));
                 }
             }
@@ -455,7 +465,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             let Some(a) = child(node, "axis") else { return Ok(DVec3::X) };
             let axis = self.vec3(a, "xyz", DVec3::X)?;
             let n = axis.length();
-            if n < 1e-6 || n > 1e6 {
+            if !(1e-6..=1e6).contains(&n) {
                 let why = if n == 0.0 { "the zero vector has no direction" } else { "its norm is outside [1e-6, 1e6]" };
                 return Err(self.error(a, UrdfErrorKind::BadAxis { axis: axis.to_array(), why }));
             }
@@ -553,8 +563,7 @@ fn cycle_from<'a, 'input>(
     let on_cycle = l;
     let mut path = vec![links[on_cycle].name.to_string()];
     let mut node = links[on_cycle].node;
-    loop {
-        let Some(j) = parent_joint[l] else { break };
+    while let Some(j) = parent_joint[l] {
         node = joints[j].node;
         let p = joints[j].parent;
         path.push(format!("({})", joints[j].name));
