@@ -7,9 +7,9 @@
 //! object, wrong lengths, a quaternion that is not of unit length) stops with exit 2 naming the
 //! line, and the output is not written.
 //!
-//! `--bench` times the three algorithms on random states (seeded): one call per state over all the
-//! states is a pass, the pass is repeated, and the median pass gives the time per call. Parsing and
-//! I/O are outside the timed loops.
+//! `--bench` times the three algorithms on random states (seeded): the states are swept ten times
+//! in timed chunks of 20 consecutive calls, and the median chunk gives the time per call. Parsing
+//! and I/O are outside the timed loops.
 
 use crate::cli::DynamicsArgs;
 use crate::error::{Failure, Status};
@@ -209,23 +209,30 @@ fn random_q(model: &MultibodyModel, rng: &mut SplitMix) -> Vec<f64> {
     q
 }
 
-/// The median over `passes` of the mean time per call of `f` over all states (µs).
-fn median_pass(states: usize, passes: usize, mut f: impl FnMut(usize)) -> f64 {
+/// The median time per call of `f` (µs) over timed chunks of [`CHUNK`] consecutive states, after a
+/// warm-up pass; the states are swept `passes` times. Short chunks (tens of µs) keep most timings
+/// free of preemption on a busy machine, and the median discards the ones that are not.
+fn median_time(states: usize, passes: usize, mut f: impl FnMut(usize)) -> f64 {
     for s in 0..states {
         f(s); // warm-up pass
     }
-    let mut times: Vec<f64> = (0..passes)
-        .map(|_| {
-            let start = Instant::now();
-            for s in 0..states {
+    let mut times = Vec::with_capacity(passes * states.div_ceil(CHUNK));
+    for _ in 0..passes {
+        for start in (0..states).step_by(CHUNK) {
+            let end = (start + CHUNK).min(states);
+            let clock = Instant::now();
+            for s in start..end {
                 f(s);
             }
-            start.elapsed().as_secs_f64() * 1e6 / states as f64
-        })
-        .collect();
+            times.push(clock.elapsed().as_secs_f64() * 1e6 / (end - start) as f64);
+        }
+    }
     times.sort_by(f64::total_cmp);
     times[times.len() / 2]
 }
+
+/// States per timed chunk of [`median_time`].
+const CHUNK: usize = 20;
 
 /// Prints `{"nv", "rnea_us", "crba_us", "aba_us"}`.
 fn bench(model: &MultibodyModel, states: usize) -> Result<Status, Failure> {
@@ -239,22 +246,22 @@ fn bench(model: &MultibodyModel, states: usize) -> Result<Status, Failure> {
     let ws_: Vec<Vec<f64>> = (0..states).map(|_| (0..nv).map(|_| rng.uniform(-1.0, 1.0)).collect()).collect();
     let mut ws = Workspace::new(model);
     let mut out = vec![0.0; nv];
-    let passes = 21;
+    let passes = 10;
     // any error shows on the first call; the timed loops then cannot fail
     rnea(model, &mut ws, &qs[0], &vs[0], &ws_[0], &mut out).map_err(Failure::bad_input)?;
     crba(model, &mut ws, &qs[0]).map_err(Failure::bad_input)?;
     aba(model, &mut ws, &qs[0], &vs[0], &ws_[0], &mut out).map_err(Failure::bad_input)?;
     let mut checksum = 0.0;
-    let rnea_us = median_pass(states, passes, |s| {
+    let rnea_us = median_time(states, passes, |s| {
         let _ = rnea(model, &mut ws, &qs[s], &vs[s], &ws_[s], &mut out);
         checksum += out.first().copied().unwrap_or(0.0);
     });
-    let crba_us = median_pass(states, passes, |s| {
+    let crba_us = median_time(states, passes, |s| {
         if let Ok(m) = crba(model, &mut ws, &qs[s]) {
             checksum += m.iter().next().copied().unwrap_or(0.0);
         }
     });
-    let aba_us = median_pass(states, passes, |s| {
+    let aba_us = median_time(states, passes, |s| {
         let _ = aba(model, &mut ws, &qs[s], &vs[s], &ws_[s], &mut out);
         checksum += out.first().copied().unwrap_or(0.0);
     });

@@ -14,7 +14,7 @@
 //! Inputs: `q` (nq), `v` (nv), `tau` (nv). Output: `qdd` (nv), in the units of `v` per second; for a
 //! floating base the derivative of the child-frame components `[v; ω]`. No allocation.
 
-use super::fk::placements;
+use super::fk::placements_up;
 use super::model::MultibodyModel;
 use super::spatial::{ArticulatedInertia, Motion};
 use super::workspace::{check_len, LengthError, Workspace};
@@ -42,7 +42,7 @@ pub fn aba(
     check_len("v", v.len(), model.nv())?;
     check_len("tau", tau.len(), model.nv())?;
     check_len("qdd", qdd.len(), model.nv())?;
-    placements(model, ws, q);
+    placements_up(model, ws, q);
     let n = model.nbodies();
 
     // pass 1: velocities, velocity products, rigid-body inertias and bias forces

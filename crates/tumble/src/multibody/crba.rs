@@ -1,18 +1,21 @@
 //! The joint-space mass matrix `M(q)` by the composite-rigid-body algorithm (CRBA).
 //!
-//! Reference: Featherstone (2008), §6.2, Table 6.2.
+//! Reference: Featherstone (2008), §6.2, Table 6.2, here with every quantity expressed in world
+//! coordinates (as Pinocchio does), which turns the walk up the tree from a chain of transforms into
+//! a chain of dot products:
 //!
-//! - `I^c_i = I_i + Σ_{children j} i_X_j* I^c_j j_X_i` (composite inertia of the subtree of `i`,
-//!   body `i`'s frame), children before parents;
-//! - `F = I^c_i S_i`, `M_ii = S_iᵀ F`; then walking up, `F ← λ(j)_X_j* F`, `M_ij = Fᵀ S_j = M_jiᵀ`
-//!   for every ancestor `j` of `i`.
+//! - `S⁰_i = 0_X_i S_i` (the motion subspace in world coordinates) and `I⁰_i = 0_X_i* I_i i_X_0`;
+//! - `I^c_i = I⁰_i + Σ_{children j} I^c_j` (composite inertia of the subtree of `i`), leaves first;
+//! - `F = I^c_i S⁰_i`, `M_ii = S⁰_iᵀ F`, and `M_ij = M_ji = S⁰_jᵀ F` for every ancestor `j` of `i`.
 //!
-//! Only the entries of `M` on the same root path are non-zero; the others are set to 0. Input: `q`
-//! (nq). Output: `ws.mass_matrix` (nv × nv, kg·m² for revolute pairs). Cost: `O(n d)` with `d` the
-//! depth of the tree; no allocation.
+//! (Table 6.2 in body coordinates transforms `F` at every step up: `F ← λ(j)_X_j* F`; the products
+//! `S_jᵀ F` are frame-independent, so both give the same `M`.) Entries of `M` whose two coordinates
+//! are not on one root path are zero and never written. Input: `q` (nq). Output: `ws.mass_matrix`
+//! (nv × nv; kg·m² for two rotations, kg·m for a rotation and a translation, kg for two
+//! translations). Cost: `O(n d)` with `d` the depth of the tree; no allocation after the first call.
 
 use super::fk::placements;
-use super::model::MultibodyModel;
+use super::model::{MultibodyModel, NONE};
 use super::workspace::{check_len, ensure_square, LengthError, TooLarge, Workspace};
 
 /// Why the mass matrix could not be computed.
@@ -33,41 +36,38 @@ pub fn crba<'w>(
     check_len("q", q.len(), model.nq())?;
     ensure_square(&mut ws.mass_matrix, model.nv())?;
     placements(model, ws, q);
-    let n = model.nbodies();
     for (i, body) in model.bodies.iter().enumerate() {
-        // I^c_i = I_i
-        ws.ic[i] = body.inertia;
-    }
-    ws.mass_matrix.fill(0.0);
-    for i in (0..n).rev() {
-        let body = &model.bodies[i];
-        if let Some(p) = body.parent {
-            // I^c_λ += λ_X_i* I^c_i i_X_λ
-            let ic_in_parent = ws.ic[i].transform_to_a(&ws.x_up[i]);
-            ws.ic[p] += ic_in_parent;
-        }
+        let x = &ws.x_world[i];
+        // I⁰_i = 0_X_i* I_i i_X_0
+        ws.ic[i] = body.inertia.transform_to_a(x);
         let vi = body.joint.v_index;
         for (k, s_k) in model.subspace(i).iter().enumerate() {
-            let row = vi + k;
-            // F = I^c_i S_i
-            let mut f = ws.ic[i].mul_motion(*s_k);
-            // M_ii = S_iᵀ F
-            for (l, s_l) in model.subspace(i).iter().enumerate() {
-                ws.mass_matrix[(row, vi + l)] = s_l.dot(f);
+            // S⁰ = 0_X_i S
+            ws.s_world[vi + k] = x.inv_apply_motion(*s_k);
+        }
+    }
+    let m = &mut ws.mass_matrix;
+    for i in (0..model.nbodies()).rev() {
+        let body = &model.bodies[i];
+        let vi = body.joint.v_index;
+        for k in vi..vi + body.joint.kind.nv() {
+            // F = I^c_i S⁰_k
+            let f = ws.ic[i].mul_motion(ws.s_world[k]);
+            // M_kk = S⁰_kᵀ F
+            m[(k, k)] = ws.s_world[k].dot(f);
+            let mut l = model.dof_parent(k);
+            while l != NONE {
+                // M_kl = M_lk = S⁰_lᵀ F, for l on the path to the root
+                let m_kl = ws.s_world[l].dot(f);
+                m[(k, l)] = m_kl;
+                m[(l, k)] = m_kl;
+                l = model.dof_parent(l);
             }
-            let mut j = i;
-            while let Some(p) = model.bodies[j].parent {
-                // F = λ(j)_X_j* F;  j = λ(j)
-                f = ws.x_up[j].inv_apply_force(f);
-                j = p;
-                // M_ij = Fᵀ S_j,  M_ji = M_ij
-                let vj = model.bodies[j].joint.v_index;
-                for (l, s_l) in model.subspace(j).iter().enumerate() {
-                    let m = s_l.dot(f);
-                    ws.mass_matrix[(row, vj + l)] = m;
-                    ws.mass_matrix[(vj + l, row)] = m;
-                }
-            }
+        }
+        if let Some(p) = body.parent {
+            // I^c_λ += I^c_i (both in world coordinates)
+            let ic = ws.ic[i];
+            ws.ic[p] += ic;
         }
     }
     Ok(&ws.mass_matrix)

@@ -42,6 +42,15 @@ pub fn forward_kinematics(model: &MultibodyModel, ws: &mut Workspace, q: &[f64],
     Ok(())
 }
 
+/// `i_X_λ(i)` only (RNEA and ABA need no world poses); lengths already checked.
+pub(crate) fn placements_up(model: &MultibodyModel, ws: &mut Workspace, q: &[f64]) {
+    for (body, x_up) in model.bodies.iter().zip(ws.x_up.iter_mut()) {
+        let j = &body.joint;
+        // i_X_λ = X_J(q) X_T
+        *x_up = j.kind.transform(&q[j.q_index..j.q_index + j.kind.nq()]).compose(&j.x_tree);
+    }
+}
+
 /// `i_X_λ(i)` and `i_X_0` for every body (lengths already checked).
 pub(crate) fn placements(model: &MultibodyModel, ws: &mut Workspace, q: &[f64]) {
     for (i, body) in model.bodies.iter().enumerate() {

@@ -7,7 +7,7 @@
 //! base). Gravity enters as a fictitious upward acceleration of the base, `a_0 = −g`.
 //! Cost: `O(n)`; no allocation.
 
-use super::fk::placements;
+use super::fk::placements_up;
 use super::model::MultibodyModel;
 use super::spatial::Motion;
 use super::workspace::{check_len, LengthError, Workspace};
@@ -49,7 +49,7 @@ fn rnea_impl(
     check_len("q", q.len(), model.nq())?;
     check_len("v", v.len(), model.nv())?;
     check_len("tau", tau.len(), model.nv())?;
-    placements(model, ws, q);
+    placements_up(model, ws, q);
     // a_0 = −g: gravity as an upward acceleration of the world
     let a_world = Motion::new(DVec3::ZERO, -model.gravity);
     for (i, body) in model.bodies.iter().enumerate() {

@@ -386,12 +386,20 @@ fn symmetrize(m: DMat3) -> DMat3 {
 }
 
 /// The rotation by `angle` (rad) about the unit vector `axis` (Rodrigues):
-/// `R = 1 + sin θ k̃ + (1 − cos θ) k̃²`.
+/// `R = 1 + sin θ k̃ + (1 − cos θ) k̃² = cos θ 1 + sin θ k̃ + (1 − cos θ) k kᵀ` (as `k̃² = k kᵀ − 1`).
 #[inline]
 pub fn axis_angle_rotation(axis: DVec3, angle: f64) -> DMat3 {
     let (s, c) = angle.sin_cos();
-    let k = skew(axis);
-    DMat3::IDENTITY + s * k + (1.0 - c) * (k * k)
+    let t = 1.0 - c;
+    let (x, y, z) = (axis.x, axis.y, axis.z);
+    let (tx, ty, tz) = (t * x, t * y, t * z);
+    let (sx, sy, sz) = (s * x, s * y, s * z);
+    // columns of c 1 + s k̃ + t k kᵀ
+    DMat3::from_cols(
+        DVec3::new(tx * x + c, tx * y + sz, tx * z - sy),
+        DVec3::new(tx * y - sz, ty * y + c, ty * z + sx),
+        DVec3::new(tx * z + sy, ty * z - sx, tz * z + c),
+    )
 }
 
 /// The rotation of URDF's `rpy`: fixed-axis roll, pitch, yaw, `R = Rz(y) Ry(p) Rx(r)`.

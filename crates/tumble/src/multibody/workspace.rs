@@ -68,6 +68,8 @@ pub struct Workspace {
     pub ia: Vec<ArticulatedInertia>,
     /// Composite-rigid-body inertias `I^c[i]`, body frame.
     pub ic: Vec<RigidInertia>,
+    /// Motion subspace columns in world coordinates, `0_X_i S` (CRBA), one per velocity coordinate.
+    pub s_world: Vec<Motion>,
     /// `U = I^A S`, one column per velocity coordinate.
     pub u_cols: Vec<Force>,
     /// `u = τ − Sᵀ p^A`, one entry per velocity coordinate.
@@ -99,6 +101,7 @@ impl Workspace {
             f: vec![Force::ZERO; n],
             ia: vec![ArticulatedInertia::ZERO; n],
             ic: vec![RigidInertia::ZERO; n],
+            s_world: vec![Motion::ZERO; nv],
             u_cols: vec![Force::ZERO; nv],
             u: vec![0.0; nv],
             d_inv: vec![0.0; model.block_len()],
