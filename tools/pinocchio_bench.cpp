@@ -3,13 +3,17 @@
 // times in timed chunks of 20 calls after a warm-up pass; the median chunk gives the time per call.
 // Prints {"nv", "rnea_us", "crba_us", "aba_us"}.
 //
-// Build (Pinocchio and its headers from `pip install pin`, Eigen from the system):
-//   P=$VENV/lib/python3.*/site-packages/cmeel.prefix
-//   g++ -O3 -march=native -DNDEBUG -std=c++17 tools/pinocchio_bench.cpp -I$P/include -I/usr/include/eigen3 \
-//       -L$P/lib -Wl,-rpath,$P/lib -lpinocchio_parsers -lpinocchio_default -o /tmp/pinocchio_bench
-// Run: /tmp/pinocchio_bench ROBOT.urdf [--floating] [STATES]
+// The model comes from tools/pinocchio_export.py (Pinocchio's own joint types, placements and
+// inertias as text), so that only Pinocchio's headers are needed: every algorithm is compiled here,
+// with the flags below, and no compiled Pinocchio library is linked.
+//
+//   VENV=/tmp/venv-pin; P=$(ls -d $VENV/lib/python3*/site-packages/cmeel.prefix)
+//   $VENV/bin/python tools/pinocchio_export.py ROBOT.urdf [--floating] > /tmp/robot.pinmodel
+//   g++ -O3 -march=native -DNDEBUG -std=c++17 -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 \
+//       -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12 tools/pinocchio_bench.cpp -I$P/include -I/usr/include/eigen3 \
+//       -o /tmp/pinocchio_bench
+//   /tmp/pinocchio_bench /tmp/robot.pinmodel [STATES]
 #include <pinocchio/multibody.hpp>
-#include <pinocchio/parsers/urdf.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/aba.hpp>
@@ -19,6 +23,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -46,20 +53,52 @@ double median_time(size_t states, F f) {
   return times[times.size() / 2];
 }
 
+static bool add_joint(Model& model, const std::string& kind, int parent, const pinocchio::SE3& placement,
+                      const Eigen::Vector3d& axis, const std::string& name) {
+  using namespace pinocchio;
+  if (kind == "JointModelRX") model.addJoint(parent, JointModelRX(), placement, name);
+  else if (kind == "JointModelRY") model.addJoint(parent, JointModelRY(), placement, name);
+  else if (kind == "JointModelRZ") model.addJoint(parent, JointModelRZ(), placement, name);
+  else if (kind == "JointModelRevoluteUnaligned") model.addJoint(parent, JointModelRevoluteUnaligned(axis), placement, name);
+  else if (kind == "JointModelRUBX") model.addJoint(parent, JointModelRUBX(), placement, name);
+  else if (kind == "JointModelRUBY") model.addJoint(parent, JointModelRUBY(), placement, name);
+  else if (kind == "JointModelRUBZ") model.addJoint(parent, JointModelRUBZ(), placement, name);
+  else if (kind == "JointModelPX") model.addJoint(parent, JointModelPX(), placement, name);
+  else if (kind == "JointModelPY") model.addJoint(parent, JointModelPY(), placement, name);
+  else if (kind == "JointModelPZ") model.addJoint(parent, JointModelPZ(), placement, name);
+  else if (kind == "JointModelPrismaticUnaligned") model.addJoint(parent, JointModelPrismaticUnaligned(axis), placement, name);
+  else if (kind == "JointModelFreeFlyer") model.addJoint(parent, JointModelFreeFlyer(), placement, name);
+  else return false;
+  return true;
+}
+
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s ROBOT.urdf [--floating] [STATES]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s ROBOT.pinmodel [STATES]\n", argv[0]);
     return 2;
   }
-  bool floating = false;
-  size_t states = 2000;
-  for (int i = 2; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--floating") == 0) floating = true;
-    else states = std::strtoul(argv[i], nullptr, 10);
-  }
+  size_t states = argc > 2 ? std::strtoul(argv[2], nullptr, 10) : 2000;
   Model model;
-  if (floating) pinocchio::urdf::buildModel(argv[1], pinocchio::JointModelFreeFlyer(), model);
-  else pinocchio::urdf::buildModel(argv[1], model);
+  std::ifstream in(argv[1]);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string kind, name;
+    int parent;
+    Eigen::Vector3d p, axis, com;
+    Eigen::Matrix3d r, inertia;
+    double mass, ixx, ixy, ixz, iyy, iyz, izz;
+    s >> kind >> parent >> p[0] >> p[1] >> p[2];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) s >> r(i, j);
+    s >> axis[0] >> axis[1] >> axis[2] >> mass >> com[0] >> com[1] >> com[2] >> ixx >> ixy >> ixz >> iyy >> iyz >> izz >> name;
+    if (!s || !add_joint(model, kind, parent, pinocchio::SE3(r, p), axis, name)) {
+      std::fprintf(stderr, "bad line: %s\n", line.c_str());
+      return 2;
+    }
+    inertia << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
+    model.appendBodyToJoint(model.njoints - 1, pinocchio::Inertia(mass, com, inertia), pinocchio::SE3::Identity());
+  }
   Data data(model);
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
