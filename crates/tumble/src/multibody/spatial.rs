@@ -264,18 +264,23 @@ impl RigidInertia {
     /// The inertia expressed in frame A, `Xᵀ I X`, given `x = B_X_A` and `self` in frame B.
     ///
     /// `h_A = Eᵀ h + m r`, `Ī_A = Eᵀ Ī E − r̃ h̃' − h̃' r̃ − m r̃ r̃` with `h' = Eᵀ h`.
+    ///
+    /// Products of cross-product matrices are formed as `ã b̃ = b aᵀ − (a·b) 1`, so
+    /// `r̃ h̃' + h̃' r̃ = h' rᵀ + r h'ᵀ − 2 (r·h') 1` and `r̃ r̃ = r rᵀ − |r|² 1`.
     #[inline]
     pub fn transform_to_a(&self, x: &Xform) -> RigidInertia {
         let et = x.e.transpose();
         let h_rot = et * self.h;
-        let rx = skew(x.r);
-        let hx = skew(h_rot);
+        let r = x.r;
         let i_rot = et * self.i_o * x.e;
-        RigidInertia {
-            mass: self.mass,
-            h: h_rot + self.mass * x.r,
-            i_o: i_rot - rx * hx - hx * rx - self.mass * (rx * rx),
-        }
+        let rh = r.dot(h_rot);
+        let rr = r.length_squared();
+        // −(r̃ h̃' + h̃' r̃) − m r̃ r̃ = −(h' rᵀ + r h'ᵀ) − m r rᵀ + (2 r·h' + m |r|²) 1
+        let shift = DMat3::from_diagonal(DVec3::splat(2.0 * rh + self.mass * rr))
+            - outer(h_rot, r)
+            - outer(r, h_rot)
+            - outer(self.mass * r, r);
+        RigidInertia { mass: self.mass, h: h_rot + self.mass * r, i_o: i_rot + shift }
     }
 
     /// Kinetic energy `½ vᵀ I v` (J) of a body moving with `v` (same frame).
@@ -346,11 +351,11 @@ impl ArticulatedInertia {
         let a = et * self.aa * e;
         let b = et * self.ab * e;
         let c = et * self.bb * e;
-        let rx = skew(x.r);
-        let rc = rx * c;
-        let b_new = b + rc;
-        // A' + r̃ B'ᵀ − B' r̃ − r̃ C' r̃ = A' + r̃ B'ᵀ − (B' + r̃ C') r̃
-        let a_new = a + rx * b.transpose() - b_new * rx;
+        let r = x.r;
+        // B' + r̃ C'  (r̃ M: r × each column of M)
+        let b_new = b + cross_cols(r, c);
+        // A' + r̃ B'ᵀ − B' r̃ − r̃ C' r̃ = A' + r̃ B'ᵀ − (B' + r̃ C') r̃, with M r̃ = −(r̃ Mᵀ)ᵀ
+        let a_new = a + cross_cols(r, b.transpose()) + cross_cols(r, b_new.transpose()).transpose();
         ArticulatedInertia { aa: symmetrize(a_new), ab: b_new, bb: symmetrize(c) }
     }
 
@@ -372,6 +377,12 @@ impl AddAssign for ArticulatedInertia {
         self.ab += o.ab;
         self.bb += o.bb;
     }
+}
+
+/// `r̃ M`: the cross product of `r` with each column of `M`.
+#[inline]
+fn cross_cols(r: DVec3, m: DMat3) -> DMat3 {
+    DMat3::from_cols(r.cross(m.x_axis), r.cross(m.y_axis), r.cross(m.z_axis))
 }
 
 /// `a bᵀ`.
