@@ -18,6 +18,7 @@
 //! | [`aba`]       | forward dynamics `q̈ = M⁻¹ (τ − C q̇ − g)`                 | `O(n)`          |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
+//! | [`simulate`]  | RK4 / semi-implicit Euler with torques, damping, PD        | `O(n)` a stage  |
 //!
 //! Model vs state: a [`MultibodyModel`] never changes; `q` and `v` are plain slices, and every
 //! algorithm is a free function `f(&model, &mut workspace, q, v, ...)` that allocates nothing.
@@ -33,6 +34,7 @@ pub mod joint;
 pub mod ltdl;
 pub mod model;
 pub mod rnea;
+pub mod simulate;
 pub mod spatial;
 pub mod urdf;
 pub mod workspace;
@@ -46,6 +48,7 @@ pub use joint::{JointKind, JointLimits};
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{Body, Frame, FrameOrigin, Joint, ModelBuilder, ModelError, MultibodyModel};
 pub use rnea::{bias_forces, rnea};
+pub use simulate::{Control, Method, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};
