@@ -12,10 +12,10 @@
 //! | [`workspace`] | the mutable [`Workspace`], allocated once                  | —               |
 //! | [`urdf`]      | URDF → model, with file:line:column errors                 | `O(n)`          |
 //! | [`fk`]        | link poses and velocities                                  | `O(n)`          |
-//! | [`rnea`]      | inverse dynamics `τ = M q̈ + C q̇ + g`, bias forces         | `O(n)`          |
-//! | [`crba`]      | the mass matrix `M(q)`                                     | `O(n d)`        |
+//! | [`rnea`](mod@rnea) | inverse dynamics `τ = M q̈ + C q̇ + g`, bias forces         | `O(n)`          |
+//! | [`crba`](mod@crba) | the mass matrix `M(q)`                                     | `O(n d)`        |
 //! | [`ltdl`]      | `M = Lᵀ D L` without fill-in, and solves                   | `O(n d²)`, `O(n d)` |
-//! | [`aba`]       | forward dynamics `q̈ = M⁻¹ (τ − C q̇ − g)`                 | `O(n)`          |
+//! | [`aba`](mod@aba)   | forward dynamics `q̈ = M⁻¹ (τ − C q̇ − g)`                 | `O(n)`          |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
 //! | [`simulate`]  | RK4 / semi-implicit Euler with torques, damping, PD        | `O(n)` a stage  |
