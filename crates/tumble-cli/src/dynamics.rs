@@ -243,17 +243,17 @@ fn bench(model: &MultibodyModel, states: usize) -> Result<Status, Failure> {
     let mut rng = SplitMix(0x7475_6d62_6c65);
     let qs: Vec<Vec<f64>> = (0..states).map(|_| random_q(model, &mut rng)).collect();
     let vs: Vec<Vec<f64>> = (0..states).map(|_| (0..nv).map(|_| rng.uniform(-1.0, 1.0)).collect()).collect();
-    let ws_: Vec<Vec<f64>> = (0..states).map(|_| (0..nv).map(|_| rng.uniform(-1.0, 1.0)).collect()).collect();
+    let taus: Vec<Vec<f64>> = (0..states).map(|_| (0..nv).map(|_| rng.uniform(-1.0, 1.0)).collect()).collect();
     let mut ws = Workspace::new(model);
     let mut out = vec![0.0; nv];
     let passes = 10;
     // any error shows on the first call; the timed loops then cannot fail
-    rnea(model, &mut ws, &qs[0], &vs[0], &ws_[0], &mut out).map_err(Failure::bad_input)?;
+    rnea(model, &mut ws, &qs[0], &vs[0], &taus[0], &mut out).map_err(Failure::bad_input)?;
     crba(model, &mut ws, &qs[0]).map_err(Failure::bad_input)?;
-    aba(model, &mut ws, &qs[0], &vs[0], &ws_[0], &mut out).map_err(Failure::bad_input)?;
+    aba(model, &mut ws, &qs[0], &vs[0], &taus[0], &mut out).map_err(Failure::bad_input)?;
     let mut checksum = 0.0;
     let rnea_us = median_time(states, passes, |s| {
-        let _ = rnea(model, &mut ws, &qs[s], &vs[s], &ws_[s], &mut out);
+        let _ = rnea(model, &mut ws, &qs[s], &vs[s], &taus[s], &mut out);
         checksum += out.first().copied().unwrap_or(0.0);
     });
     let crba_us = median_time(states, passes, |s| {
@@ -262,7 +262,7 @@ fn bench(model: &MultibodyModel, states: usize) -> Result<Status, Failure> {
         }
     });
     let aba_us = median_time(states, passes, |s| {
-        let _ = aba(model, &mut ws, &qs[s], &vs[s], &ws_[s], &mut out);
+        let _ = aba(model, &mut ws, &qs[s], &vs[s], &taus[s], &mut out);
         checksum += out.first().copied().unwrap_or(0.0);
     });
     std::hint::black_box(checksum);

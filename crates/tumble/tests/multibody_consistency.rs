@@ -135,13 +135,13 @@ fn kinetic_energy_is_half_v_m_v() {
     }
 }
 
-/// One RK4 step of `q̇ = G(q) v`, `v̇ = ABA(q, v, τ)` (quaternions renormalised by `integrate`'s
-/// caller through `JointKind::transform`, which normalises).
+/// One RK4 step of `q̇ = G(q) v`, `v̇ = ABA(q, v, τ)`, written independently of `multibody::simulate`
+/// (quaternions are left off the unit sphere by O(h⁵); the joint transforms normalise them).
 fn rk4_step(model: &MultibodyModel, ws: &mut Workspace, q: &mut [f64], v: &mut [f64], tau: &[f64], h: f64) {
     let (nq, nv) = (model.nq(), model.nv());
     let f = |ws: &mut Workspace, q: &[f64], v: &[f64]| {
         let mut qd = vec![0.0; nq];
-        model.coordinate_rate(q, v, &mut qd);
+        model.coordinate_rate(q, v, &mut qd).unwrap();
         let mut vd = vec![0.0; nv];
         aba(model, ws, q, v, tau, &mut vd).unwrap();
         (qd, vd)

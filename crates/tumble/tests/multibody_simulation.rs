@@ -125,8 +125,8 @@ fn pd_control_reaches_its_target() {
     for _ in 0..20_000 {
         sim.step(&model, &control, Method::SemiImplicitEuler, 1e-3).unwrap();
     }
-    for k in 0..2 {
-        assert!((sim.q[k] - target[k]).abs() < 1e-6, "q[{k}] = {} vs {}", sim.q[k], target[k]);
+    for (k, (q, t)) in sim.q.iter().zip(target).enumerate() {
+        assert!((q - t).abs() < 1e-6, "q[{k}] = {q} vs {t}");
         assert!(sim.v[k].abs() < 1e-5);
     }
 }

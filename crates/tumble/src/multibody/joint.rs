@@ -88,11 +88,12 @@ impl JointKind {
         }
     }
 
-    /// The joint transform `X_J(q) = child_X_jointframe` for the coordinates `q` (length [`nq`](Self::nq)).
+    /// The joint transform `X_J(q) = child_X_jointframe` for the coordinates `q` (length [`nq`](Self::nq),
+    /// checked by the callers).
     ///
     /// Quaternions are normalised here, so a `q` slightly off the unit sphere still gives a rotation.
     #[inline]
-    pub fn transform(&self, q: &[f64]) -> Xform {
+    pub(crate) fn transform(&self, q: &[f64]) -> Xform {
         match *self {
             // rotation by θ about k: joint_from_child = R(k, θ), E = Rᵀ
             JointKind::Revolute { axis } | JointKind::Continuous { axis } => {
@@ -108,7 +109,7 @@ impl JointKind {
     }
 
     /// The neutral configuration (zero angles and displacements, identity rotations), written into `q`.
-    pub fn neutral(&self, q: &mut [f64]) {
+    pub(crate) fn neutral(&self, q: &mut [f64]) {
         q.fill(0.0);
         match self {
             JointKind::Spherical => q[0] = 1.0,
@@ -121,7 +122,7 @@ impl JointKind {
     ///
     /// One-coordinate joints: `q̇ = v`. Quaternions: `q̇ = ½ q ⊗ (0, ω)`. Floating position:
     /// `ẋ = R v_linear` (the linear velocity is in the child frame).
-    pub fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) {
+    pub(crate) fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) {
         match self {
             JointKind::Spherical => {
                 let r = quat_rate(quat_wxyz(&q[0..4]), DVec3::new(v[0], v[1], v[2]));
@@ -141,7 +142,7 @@ impl JointKind {
     /// The configuration reached from `q` by moving with constant `v` for `dt` seconds (written
     /// into `q_next`): additive for one-coordinate joints, the exponential map for rotations
     /// (`R ← R exp(ω dt)`), and for the floating base the position moved by `R(q) v_linear dt`.
-    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, q_next: &mut [f64]) {
+    pub(crate) fn integrate(&self, q: &[f64], v: &[f64], dt: f64, q_next: &mut [f64]) {
         match self {
             JointKind::Spherical => {
                 let r = quat_wxyz(&q[0..4]) * crate::math::quat_exp(DVec3::new(v[0], v[1], v[2]) * dt);

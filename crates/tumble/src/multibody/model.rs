@@ -9,6 +9,7 @@
 
 use super::joint::{JointKind, JointLimits};
 use super::spatial::{Motion, RigidInertia, Xform};
+use super::workspace::{check_len, LengthError};
 use crate::math::DVec3;
 
 /// Why a model could not be built.
@@ -199,22 +200,31 @@ impl MultibodyModel {
         self.frames.iter().position(|f| f.name == name)
     }
 
-    /// `q̇ = G(q) v` for the whole tree (lengths nq, nv, nq).
-    pub fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) {
+    /// `q̇ = G(q) v` for the whole tree, written into `qd` (lengths nq, nv, nq).
+    pub fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) -> Result<(), LengthError> {
+        check_len("q", q.len(), self.nq)?;
+        check_len("v", v.len(), self.nv)?;
+        check_len("qd", qd.len(), self.nq)?;
         for b in &self.bodies {
             let j = &b.joint;
             let (qi, vi, nq) = (j.q_index, j.v_index, j.kind.nq());
             j.kind.coordinate_rate(&q[qi..qi + nq], &v[vi..vi + j.kind.nv()], &mut qd[qi..qi + nq]);
         }
+        Ok(())
     }
 
-    /// `q ⊕ v dt` for the whole tree (see [`JointKind::integrate`]).
-    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, q_next: &mut [f64]) {
+    /// `q ⊕ v dt` for the whole tree, written into `q_next` (see [`JointKind`]'s integration: additive
+    /// for one-coordinate joints, the exponential map for rotations).
+    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, q_next: &mut [f64]) -> Result<(), LengthError> {
+        check_len("q", q.len(), self.nq)?;
+        check_len("v", v.len(), self.nv)?;
+        check_len("q_next", q_next.len(), self.nq)?;
         for b in &self.bodies {
             let j = &b.joint;
             let (qi, vi, nq) = (j.q_index, j.v_index, j.kind.nq());
             j.kind.integrate(&q[qi..qi + nq], &v[vi..vi + j.kind.nv()], dt, &mut q_next[qi..qi + nq]);
         }
+        Ok(())
     }
 }
 

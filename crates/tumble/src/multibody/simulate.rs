@@ -46,8 +46,18 @@ impl Control {
         }
     }
 
-    /// `τ(q, v)` written into `tau` (length nv).
-    pub fn joint_forces(&self, model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64]) {
+    /// `τ(q, v)` written into `tau` (lengths nq, nv, nv).
+    pub fn joint_forces(
+        &self,
+        model: &MultibodyModel,
+        q: &[f64],
+        v: &[f64],
+        tau: &mut [f64],
+    ) -> Result<(), LengthError> {
+        self.check(model)?;
+        check_len("q", q.len(), model.nq())?;
+        check_len("v", v.len(), model.nv())?;
+        check_len("tau", tau.len(), model.nv())?;
         tau.copy_from_slice(&self.tau);
         for body in &model.bodies {
             let j = &body.joint;
@@ -60,6 +70,7 @@ impl Control {
                 + self.kp[vi] * (self.q_target[qi] - q[qi])
                 + self.kd[vi] * (self.v_target[vi] - v[vi]);
         }
+        Ok(())
     }
 
     fn check(&self, model: &MultibodyModel) -> Result<(), LengthError> {
@@ -124,17 +135,22 @@ impl Simulator {
     /// Advances by `dt` seconds.
     pub fn step(&mut self, model: &MultibodyModel, control: &Control, method: Method, dt: f64) -> Result<(), AbaError> {
         control.check(model)?;
+        // the simulator's own vectors were sized for a model: it must be this one
+        check_len("q (simulator state)", self.q.len(), model.nq())?;
+        check_len("v (simulator state)", self.v.len(), model.nv())?;
+        check_len("q (the model the simulator was made for)", self.q_stage.len(), model.nq())?;
+        check_len("v (the model the simulator was made for)", self.v_stage.len(), model.nv())?;
         match method {
             Method::Rk4 => self.rk4(model, control, dt)?,
             Method::SemiImplicitEuler => {
                 // v ← v + dt v̇(q, v);  q ← q ⊕ v dt
-                control.joint_forces(model, &self.q, &self.v, &mut self.tau);
+                control.joint_forces(model, &self.q, &self.v, &mut self.tau)?;
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 for (v, a) in self.v.iter_mut().zip(&self.k_v[0]) {
                     *v += dt * a;
                 }
                 self.q_stage.copy_from_slice(&self.q);
-                model.integrate(&self.q_stage, &self.v, dt, &mut self.q);
+                model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
             }
         }
         self.t += dt;
@@ -143,22 +159,22 @@ impl Simulator {
 
     fn rk4(&mut self, model: &MultibodyModel, control: &Control, dt: f64) -> Result<(), AbaError> {
         const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
-        for s in 0..4 {
+        for (s, c) in C.iter().enumerate() {
             // stage s at (q + C_s dt k_{s−1}, v + C_s dt k_{s−1})
             if s == 0 {
                 self.q_stage.copy_from_slice(&self.q);
                 self.v_stage.copy_from_slice(&self.v);
             } else {
-                let h = C[s] * dt;
-                for i in 0..self.q.len() {
-                    self.q_stage[i] = self.q[i] + h * self.k_q[s - 1][i];
+                let h = c * dt;
+                for ((stage, y), k) in self.q_stage.iter_mut().zip(&self.q).zip(&self.k_q[s - 1]) {
+                    *stage = y + h * k;
                 }
-                for i in 0..self.v.len() {
-                    self.v_stage[i] = self.v[i] + h * self.k_v[s - 1][i];
+                for ((stage, y), k) in self.v_stage.iter_mut().zip(&self.v).zip(&self.k_v[s - 1]) {
+                    *stage = y + h * k;
                 }
             }
-            model.coordinate_rate(&self.q_stage, &self.v_stage, &mut self.k_q[s]);
-            control.joint_forces(model, &self.q_stage, &self.v_stage, &mut self.tau);
+            model.coordinate_rate(&self.q_stage, &self.v_stage, &mut self.k_q[s])?;
+            control.joint_forces(model, &self.q_stage, &self.v_stage, &mut self.tau)?;
             aba(model, &mut self.ws, &self.q_stage, &self.v_stage, &self.tau, &mut self.k_v[s])?;
         }
         // y ← y + dt/6 (k1 + 2 k2 + 2 k3 + k4)
