@@ -4,7 +4,9 @@
 mod multibody_common;
 
 use multibody_common::assert_close;
+use std::path::{Path, PathBuf};
 use tumble::math::{DMat3, DVec3};
+use tumble::multibody::urdf::resolve_mesh;
 use tumble::multibody::{
     aba, crba, parse_urdf, rnea, ChildOrder, CrbaError, JointKind, UrdfError, UrdfErrorKind, UrdfOptions, Workspace,
 };
@@ -381,4 +383,42 @@ fn joint_order_is_depth_first() {
     let floating = parse_urdf(&text, "r.urdf", UrdfOptions { floating: true, order: ChildOrder::File }).unwrap();
     assert_eq!(floating.bodies[0].joint.name, "root_joint");
     assert_eq!((floating.nq(), floating.nv()), (10, 9));
+}
+
+/// Mesh URIs: `package://` under the nearest directory of that name holding the URDF, relative paths
+/// under the URDF's directory, nothing that climbs out of them (U17), no other scheme.
+#[test]
+fn u15_u17_mesh_paths_are_resolved_without_leaving_their_roots() {
+    let urdf = Path::new("/data/example-robot-data/robots/panda_description/urdf/panda.urdf");
+    assert_eq!(
+        resolve_mesh(urdf, "package://example-robot-data/robots/panda_description/meshes/link0.dae"),
+        Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/meshes/link0.dae"))
+    );
+    assert_eq!(
+        resolve_mesh(urdf, "meshes/./hand.stl"),
+        Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/urdf/meshes/hand.stl"))
+    );
+    assert_eq!(resolve_mesh(urdf, "/abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
+    assert_eq!(resolve_mesh(urdf, "file:///abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
+    for bad in [
+        "package://example-robot-data/../../etc/passwd",
+        "../../../../etc/passwd",
+        "package://nowhere/mesh.stl",
+        "http://example.com/mesh.stl",
+    ] {
+        assert!(resolve_mesh(urdf, bad).is_err(), "{bad}");
+    }
+    // recorded on the model, with a warning for what is not resolved
+    let text = robot(&[r#"<link name="a"><visual><geometry><mesh filename="meshes/a.stl"/></geometry></visual>
+           <collision><geometry><mesh filename="package://nowhere/a.stl"/></geometry></collision></link>"#
+        .into()]);
+    let model = parse_urdf(&text, "/robots/r.urdf", UrdfOptions::default()).unwrap();
+    assert_eq!(model.meshes.len(), 2);
+    assert_eq!(model.meshes[0].path.as_deref(), Some(Path::new("/robots/meshes/a.stl")));
+    assert_eq!(model.meshes[1].path, None);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("package://nowhere/a.stl") && w.contains("/robots/r.urdf:3")),
+        "{:?}",
+        model.warnings
+    );
 }

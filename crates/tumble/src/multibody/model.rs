@@ -92,6 +92,21 @@ pub enum FrameOrigin {
     },
 }
 
+/// A mesh named by a link's `<visual>` or `<collision>` geometry (recorded, not read: the dynamics
+/// needs no mesh).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRef {
+    /// The link whose geometry names it.
+    pub link: String,
+    /// The URI as written (`package://…`, a relative or absolute path, `file://…`).
+    pub uri: String,
+    /// The file it resolves to, or `None` (with a warning) when it cannot be resolved or leaves the
+    /// directory it is resolved against.
+    pub path: Option<std::path::PathBuf>,
+    /// 1-based line of the `<mesh>` element.
+    pub line: u32,
+}
+
 /// The immutable model: the tree, joints, inertias and gravity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MultibodyModel {
@@ -107,8 +122,10 @@ pub struct MultibodyModel {
     pub total_mass: f64,
     /// Inertia fixed to the world (the fixed base and links fixed to it), world frame.
     pub world_inertia: RigidInertia,
-    /// Non-fatal remarks from the source (unknown tags, normalised axes).
+    /// Non-fatal remarks from the source (unknown tags, normalised axes, unresolved meshes).
     pub warnings: Vec<String>,
+    /// Meshes named by the source's geometry.
+    pub meshes: Vec<MeshRef>,
     nq: usize,
     nv: usize,
     /// Motion subspace columns, one per velocity coordinate (child frame).
@@ -236,6 +253,7 @@ pub struct ModelBuilder {
     frames: Vec<Frame>,
     world_inertia: RigidInertia,
     warnings: Vec<String>,
+    meshes: Vec<MeshRef>,
     nq: usize,
     nv: usize,
 }
@@ -326,6 +344,11 @@ impl ModelBuilder {
         }
     }
 
+    /// Records a mesh named by the source.
+    pub fn add_mesh(&mut self, mesh: MeshRef) {
+        self.meshes.push(mesh);
+    }
+
     /// Records a non-fatal remark.
     pub fn warn(&mut self, message: impl Into<String>) {
         self.warnings.push(message.into());
@@ -377,6 +400,7 @@ impl ModelBuilder {
             total_mass,
             world_inertia: self.world_inertia,
             warnings: self.warnings,
+            meshes: self.meshes,
             nq: self.nq,
             nv: self.nv,
             subspace,

@@ -12,6 +12,9 @@
 //!   file ([`ChildOrder::File`], the default) or sorted by joint name ([`ChildOrder::JointName`], the
 //!   order Pinocchio's reader produces). Iterative: a chain of 10⁵ links does not grow the call stack.
 //! - With `floating`, a `floating` joint named `root_joint` connects the world to the root link.
+//! - `<mesh filename>` of visual and collision geometry is recorded in `model.meshes`, resolved by
+//!   [`resolve_mesh`] (`package://`, relative and absolute paths) but never read; what cannot be
+//!   resolved, or leaves its directory, gives a warning.
 //!
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
@@ -24,13 +27,13 @@
 //! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
 
 use super::joint::{JointKind, JointLimits};
-use super::model::{FrameOrigin, ModelBuilder, ModelError, MultibodyModel};
+use super::model::{FrameOrigin, MeshRef, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
 use crate::body::MassProperties;
 use crate::math::{DMat3, DVec3};
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 /// Files larger than this are refused before reading (bytes).
 pub const MAX_URDF_BYTES: u64 = 64 << 20;
@@ -254,6 +257,7 @@ impl<'a, 'input> Parser<'a, 'input> {
         let mut links: Vec<Link> = Vec::new();
         let mut link_index: HashMap<&str, usize> = HashMap::new();
         let mut joint_nodes: Vec<Node> = Vec::new();
+        let mut meshes: Vec<MeshRef> = Vec::new();
         for node in root.children().filter(|n| n.is_element()) {
             match node.tag_name().name() {
                 "link" => {
@@ -265,6 +269,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         );
                     }
                     let inertia = self.inertial(node, name)?;
+                    self.meshes(node, name, &mut meshes, &mut warnings);
                     link_index.insert(name, links.len());
                     links.push(Link { node, name, inertia });
                 }
@@ -391,6 +396,9 @@ impl<'a, 'input> Parser<'a, 'input> {
         for w in warnings {
             builder.warn(w);
         }
+        for m in meshes {
+            builder.add_mesh(m);
+        }
         builder.build().map_err(|e| {
             let node = match &e {
                 ModelError::MasslessSubtree { joint, .. } => {
@@ -400,6 +408,31 @@ impl<'a, 'input> Parser<'a, 'input> {
             };
             self.error(node, UrdfErrorKind::Model(e))
         })
+    }
+
+    /// Records the `<mesh filename>` of a link's `<visual>` and `<collision>` elements, resolved.
+    fn meshes(&self, link: Node, name: &str, meshes: &mut Vec<MeshRef>, warnings: &mut Vec<String>) {
+        let geometries = link
+            .children()
+            .filter(|n| n.is_element() && matches!(n.tag_name().name(), "visual" | "collision"))
+            .filter_map(|n| child(n, "geometry"))
+            .filter_map(|g| child(g, "mesh"));
+        for mesh in geometries {
+            let line = self.line(mesh);
+            let Some(uri) = mesh.attribute("filename") else {
+                warnings.push(format!("{}:{}: link '{}': <mesh> without a filename", self.file, line, name));
+                continue;
+            };
+            let path = match resolve_mesh(Path::new(self.file), uri) {
+                Ok(path) => Some(path),
+                Err(why) => {
+                    warnings
+                        .push(format!("{}:{}: link '{}': mesh '{}' not resolved: {}", self.file, line, name, uri, why));
+                    None
+                }
+            };
+            meshes.push(MeshRef { link: name.into(), uri: uri.into(), path, line });
+        }
     }
 
     /// `<inertial>` of a link: its spatial inertia in the link frame (zero without `<inertial>`).
@@ -576,4 +609,55 @@ fn cycle_from<'a, 'input>(
     // the walk went child → parent: print it parent → child
     path.reverse();
     (path.join(" → "), node)
+}
+
+/// Resolves a mesh URI of the URDF file `urdf` without touching the file system:
+///
+/// - `package://PKG/REST`: `REST` under the nearest directory named `PKG` that contains the URDF file
+///   (how robot description packages are laid out, e.g. `example-robot-data/robots/…`);
+/// - `file:///ABS` and absolute paths: as written;
+/// - a relative path: relative to the URDF file's directory.
+///
+/// `..` components are applied lexically; a package path or a relative path that climbs out of the
+/// directory it is resolved against is refused (reliability catalogue U17), as is any other scheme.
+pub fn resolve_mesh(urdf: &Path, uri: &str) -> Result<PathBuf, String> {
+    let urdf_dir = urdf.parent().unwrap_or(Path::new(""));
+    if let Some(rest) = uri.strip_prefix("package://") {
+        let (package, relative) = rest.split_once('/').ok_or("no path after the package name")?;
+        let root = urdf_dir
+            .ancestors()
+            .find(|a| a.file_name().is_some_and(|n| n == package))
+            .ok_or_else(|| format!("no directory named '{package}' contains {}", urdf.display()))?;
+        return inside(root, relative);
+    }
+    if let Some(absolute) = uri.strip_prefix("file://") {
+        return Ok(PathBuf::from(absolute));
+    }
+    if let Some((scheme, _)) = uri.split_once("://") {
+        return Err(format!("unsupported scheme '{scheme}://'"));
+    }
+    if Path::new(uri).is_absolute() {
+        return Ok(PathBuf::from(uri));
+    }
+    inside(urdf_dir, uri)
+}
+
+/// `root/relative` with `.` and `..` applied, refused if it leaves `root`.
+fn inside(root: &Path, relative: &str) -> Result<PathBuf, String> {
+    let mut parts: Vec<&std::ffi::OsStr> = Vec::new();
+    for c in Path::new(relative).components() {
+        match c {
+            Component::Normal(p) => parts.push(p),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if parts.pop().is_none() {
+                    return Err(format!("'{relative}' leaves {}", root.display()));
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return Err(format!("'{relative}' is not relative")),
+        }
+    }
+    let mut path = root.to_path_buf();
+    path.extend(parts);
+    Ok(path)
 }
