@@ -272,7 +272,7 @@ impl RigidInertia {
         let et = x.e.transpose();
         let h_rot = et * self.h;
         let r = x.r;
-        let i_rot = et * self.i_o * x.e;
+        let i_rot = rotate_symmetric(et, self.i_o);
         let rh = r.dot(h_rot);
         let rr = r.length_squared();
         // −(r̃ h̃' + h̃' r̃) − m r̃ r̃ = −(h' rᵀ + r h'ᵀ) − m r rᵀ + (2 r·h' + m |r|²) 1
@@ -377,6 +377,20 @@ impl AddAssign for ArticulatedInertia {
         self.ab += o.ab;
         self.bb += o.bb;
     }
+}
+
+/// `R S Rᵀ` for a symmetric `S`: `S Rᵀ` (27 products), then only the six distinct entries of the
+/// symmetric result (18 products).
+#[inline]
+fn rotate_symmetric(r: DMat3, s: DMat3) -> DMat3 {
+    // columns of S Rᵀ are S times the rows of R
+    let rt = r.transpose();
+    let srt = s * rt;
+    let (r0, r1, r2) = (rt.x_axis, rt.y_axis, rt.z_axis); // rows of R
+    let (c0, c1, c2) = (srt.x_axis, srt.y_axis, srt.z_axis);
+    let (a00, a01, a02) = (r0.dot(c0), r0.dot(c1), r0.dot(c2));
+    let (a11, a12, a22) = (r1.dot(c1), r1.dot(c2), r2.dot(c2));
+    DMat3::from_cols(DVec3::new(a00, a01, a02), DVec3::new(a01, a11, a12), DVec3::new(a02, a12, a22))
 }
 
 /// `r̃ M`: the cross product of `r` with each column of `M`.
