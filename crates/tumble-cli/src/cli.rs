@@ -31,6 +31,69 @@ pub enum Command {
     View(ViewArgs),
     /// Mass properties of the solid a mesh (.obj, .stl) bounds, as JSON.
     Mass(MassArgs),
+    /// Print the joint layout of a URDF robot (joint order, coordinates, mass).
+    Model(ModelArgs),
+    /// Mass matrix, bias forces, forward and inverse dynamics of a URDF robot for states read from
+    /// JSON Lines; or, with --bench, the time per call of RNEA, CRBA and ABA.
+    Dynamics(DynamicsArgs),
+}
+
+/// The robot of `tumble model` and `tumble dynamics`.
+#[derive(Debug, Args)]
+pub struct RobotArgs {
+    /// URDF file.
+    pub urdf: PathBuf,
+
+    /// Give the root link a floating base: q = [x, y, z, qw, qx, qy, qz, ...], v = [linear velocity,
+    /// angular velocity, ...], both of the base in the base frame.
+    #[arg(long)]
+    pub floating: bool,
+
+    /// Order of a link's children in the depth-first joint numbering: `file` (as the joints appear in
+    /// the file) or `name` (sorted by joint name, which gives Pinocchio's numbering).
+    #[arg(long, value_name = "ORDER", default_value = "file", value_parser = ["file", "name"])]
+    pub joint_order: String,
+}
+
+/// `tumble model`.
+#[derive(Debug, Args)]
+pub struct ModelArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+
+    /// Print JSON: {"name", "nq", "nv", "total_mass", "joints": [{"name", "type", "parent", "child",
+    /// "q_index", "v_index", "nq", "nv"}]}.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `tumble dynamics`.
+#[derive(Debug, Args)]
+pub struct DynamicsArgs {
+    #[command(flatten)]
+    pub robot: RobotArgs,
+
+    /// States, one JSON object per line: {"q": [..], "v": [..], "tau": [..]?, "a": [..]?}.
+    #[arg(long, value_name = "IN.jsonl", required_unless_present = "bench")]
+    pub input: Option<PathBuf>,
+
+    /// Results, one JSON object per input line: "mass_matrix", "bias", and "qdd" (when tau is given)
+    /// and "tau" (when a is given).
+    #[arg(long, value_name = "OUT.jsonl", required_unless_present = "bench")]
+    pub out: Option<PathBuf>,
+
+    /// Gravity in the world frame, m/s² [default: 0 0 -9.81].
+    #[arg(long, num_args = 3, value_names = ["GX", "GY", "GZ"], allow_negative_numbers = true)]
+    pub gravity: Option<Vec<f64>>,
+
+    /// Time RNEA, CRBA and ABA on random states instead and print
+    /// {"nv", "rnea_us", "crba_us", "aba_us"}: the median time per call in microseconds.
+    #[arg(long, conflicts_with_all = ["input", "out"])]
+    pub bench: bool,
+
+    /// Number of random states timed by --bench (each timed over a batch of calls).
+    #[arg(long, value_name = "N", default_value_t = 2000, requires = "bench")]
+    pub bench_states: usize,
 }
 
 /// `tumble run`.

@@ -6,6 +6,8 @@
 //! - [`plot`]: `tumble plot` (and `run --plot`): stacked panels over time, SVG or PNG.
 //! - [`view`]: `tumble view` (and `run --view`): a 3D replay in one self-contained HTML file.
 //! - [`mass`]: `tumble mass`: the mass properties of a mesh, as JSON.
+//! - [`model`]: `tumble model`: the joint layout of a URDF robot.
+//! - [`dynamics`]: `tumble dynamics`: mass matrix, bias, forward and inverse dynamics; `--bench`.
 //! - [`output`]: output files, written beside the target and renamed into place.
 //! - [`report`]: the printed summary table and the progress bar.
 //! - [`signal`]: SIGINT/SIGTERM end a run cleanly after the current step.
@@ -18,8 +20,10 @@
 
 pub mod check;
 pub mod cli;
+pub mod dynamics;
 pub mod error;
 pub mod mass;
+pub mod model;
 pub mod output;
 pub mod plot;
 pub mod report;
@@ -49,6 +53,8 @@ pub fn main() -> ExitCode {
         cli::Command::Plot(args) => plot::plot(&args),
         cli::Command::View(args) => view::view(&args),
         cli::Command::Mass(args) => mass::mass(&args),
+        cli::Command::Model(args) => model::model(&args),
+        cli::Command::Dynamics(args) => dynamics::dynamics(&args),
     };
     match result {
         Ok(status) => status.into(),

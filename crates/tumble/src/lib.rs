@@ -8,6 +8,7 @@
 //! - [`scene`]: scene files (TOML/JSON) → [`world::World`], with precise errors.
 //! - [`trajectory`]: CSV and JSON Lines trajectories, the run summary.
 //! - [`mesh`]: OBJ/STL meshes, their checks and the exact mass properties of the solids they bound.
+//! - [`multibody`]: articulated bodies (spatial algebra, RNEA, CRBA, ABA, URDF).
 //! - [`analytic`]: exact solutions used as references (torque-free tops, Jacobi elliptic functions).
 //!
 //! Conventions: SI units, `f64`, world z up, quaternions `world_from_body` written `[w, x, y, z]` in
@@ -19,6 +20,7 @@ pub mod body;
 pub mod integrate;
 pub mod math;
 pub mod mesh;
+pub mod multibody;
 pub mod scene;
 pub mod trajectory;
 pub mod world;

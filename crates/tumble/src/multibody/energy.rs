@@ -1,0 +1,42 @@
+//! Kinetic and potential energy and the centre of mass of a tree.
+//!
+//! - `T = ½ Σ v_iᵀ I_i v_i` (body frames; Featherstone (2008) §2.13, (2.67)) (J);
+//! - `V = −Σ m_i g · c_i` with `c_i` the centre of mass of body `i` in the world (J, zero at the
+//!   world origin); what is fixed to the world is left out (it is constant);
+//! - centre of mass `Σ m_i c_i / Σ m_i` over the moving bodies (world frame, m).
+
+use super::fk::{forward_kinematics, update_placements};
+use super::model::MultibodyModel;
+use super::workspace::{LengthError, Workspace};
+use crate::math::DVec3;
+
+/// Kinetic energy `T(q, v)` (J).
+pub fn kinetic_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64], v: &[f64]) -> Result<f64, LengthError> {
+    forward_kinematics(model, ws, q, v)?;
+    // T = ½ Σ v_iᵀ I_i v_i
+    Ok(model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum())
+}
+
+/// Gravitational potential energy `V(q) = −Σ m_i g · c_i` of the moving bodies (J).
+pub fn potential_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64]) -> Result<f64, LengthError> {
+    update_placements(model, ws, q)?;
+    let mut v = 0.0;
+    for (b, x) in model.bodies.iter().zip(&ws.x_world) {
+        // c_i in the world: 0_X_i c_i
+        let c_world = x.inv_apply_point(b.inertia.com());
+        v -= b.inertia.mass * model.gravity.dot(c_world);
+    }
+    Ok(v)
+}
+
+/// Centre of mass of the moving bodies, world frame (m); the origin if they have no mass.
+pub fn center_of_mass(model: &MultibodyModel, ws: &mut Workspace, q: &[f64]) -> Result<DVec3, LengthError> {
+    update_placements(model, ws, q)?;
+    let mut m = 0.0;
+    let mut h = DVec3::ZERO;
+    for (b, x) in model.bodies.iter().zip(&ws.x_world) {
+        m += b.inertia.mass;
+        h += b.inertia.mass * x.inv_apply_point(b.inertia.com());
+    }
+    Ok(if m > 0.0 { h / m } else { DVec3::ZERO })
+}

@@ -1,0 +1,428 @@
+//! The immutable model of a kinematic tree: bodies, joints, inertias and joint placements.
+//!
+//! Bodies are numbered `0..n` so that a body's parent comes before it (`parent[i] < i`); a body
+//! whose parent is `None` hangs from the world (the fixed base, or the floating joint of a
+//! floating base). Body `i` is moved by joint `i`. Links attached by fixed joints are merged into
+//! the body they are fixed to and kept as named [`Frame`]s.
+//!
+//! Coordinates: joint `i` owns `q[q_index .. q_index + nq]` and `v[v_index .. v_index + nv]`.
+
+use super::joint::{JointKind, JointLimits};
+use super::spatial::{Motion, RigidInertia, Xform};
+use super::workspace::{check_len, LengthError};
+use crate::math::DVec3;
+
+/// Why a model could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    #[error("joint '{joint}': its axis must be finite and non-zero (got {axis:?})")]
+    BadAxis { joint: String, axis: [f64; 3] },
+    #[error("joint '{joint}': its placement must be finite")]
+    NonFinitePlacement { joint: String },
+    #[error("body '{body}': its parent index {parent} is not an earlier body")]
+    BadParent { body: String, parent: usize },
+    #[error("body '{body}': its inertia must be finite with mass ≥ 0")]
+    BadInertia { body: String },
+    #[error(
+        "joint '{joint}' moves a subtree without mass (body '{body}' and its descendants): \
+         the mass matrix would be singular"
+    )]
+    MasslessSubtree { joint: String, body: String },
+}
+
+/// A joint of the tree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    /// Unique name.
+    pub name: String,
+    /// Kind and axis.
+    pub kind: JointKind,
+    /// `X_T = jointframe_X_parent`: the joint frame (the child's frame at `q = 0`) placed in the
+    /// parent body's frame.
+    pub x_tree: Xform,
+    /// First configuration coordinate.
+    pub q_index: usize,
+    /// First velocity coordinate.
+    pub v_index: usize,
+    /// Limits and damping (informational).
+    pub limits: JointLimits,
+    /// The parent link's name as written in the source (the world for the root).
+    pub parent_link: String,
+}
+
+/// A body of the tree (a link, with the links fixed to it merged in).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// The link's name.
+    pub name: String,
+    /// Parent body; `None` for the world.
+    pub parent: Option<usize>,
+    /// The joint that moves this body.
+    pub joint: Joint,
+    /// Spatial inertia in this body's frame, including the links fixed to it.
+    pub inertia: RigidInertia,
+}
+
+/// A named frame fixed to a body (every link of the source, merged or not), in depth-first order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// The link's name.
+    pub name: String,
+    /// The body it is fixed to; `None` for the world (the fixed base and what is fixed to it).
+    pub body: Option<usize>,
+    /// `frame_X_body`: the frame's placement in the body's (or the world's) frame.
+    pub x_from_body: Xform,
+    /// How the frame is attached.
+    pub origin: FrameOrigin,
+}
+
+/// How a frame is attached to the tree.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FrameOrigin {
+    /// The root link of a fixed base (fixed to the world).
+    Root,
+    /// The frame of a body, moved by that body's joint.
+    Body(usize),
+    /// A link attached by a fixed joint, merged into the body it is fixed to.
+    Fixed {
+        /// The fixed joint's name.
+        joint: String,
+        /// The link on the other side of the fixed joint.
+        parent_link: String,
+    },
+}
+
+/// A mesh named by a link's `<visual>` or `<collision>` geometry (recorded, not read: the dynamics
+/// needs no mesh).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRef {
+    /// The link whose geometry names it.
+    pub link: String,
+    /// The URI as written (`package://…`, a relative or absolute path, `file://…`).
+    pub uri: String,
+    /// The file it resolves to, or `None` (with a warning) when it cannot be resolved or leaves the
+    /// directory it is resolved against.
+    pub path: Option<std::path::PathBuf>,
+    /// 1-based line of the `<mesh>` element.
+    pub line: u32,
+}
+
+/// The immutable model: the tree, joints, inertias and gravity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MultibodyModel {
+    /// The robot's name.
+    pub name: String,
+    /// Gravity in the world frame (m/s²), `[0, 0, −9.81]` by default.
+    pub gravity: DVec3,
+    /// Bodies, parents first.
+    pub bodies: Vec<Body>,
+    /// Named frames (all links).
+    pub frames: Vec<Frame>,
+    /// Total mass of the moving bodies and of what is fixed to the world (kg).
+    pub total_mass: f64,
+    /// Inertia fixed to the world (the fixed base and links fixed to it), world frame.
+    pub world_inertia: RigidInertia,
+    /// Non-fatal remarks from the source (unknown tags, normalised axes, unresolved meshes).
+    pub warnings: Vec<String>,
+    /// Meshes named by the source's geometry.
+    pub meshes: Vec<MeshRef>,
+    nq: usize,
+    nv: usize,
+    /// Motion subspace columns, one per velocity coordinate (child frame).
+    subspace: Vec<Motion>,
+    /// The body each velocity coordinate belongs to.
+    dof_body: Vec<usize>,
+    /// `λ(k)`: the velocity coordinate before `k` on the path to the root, `usize::MAX` for none.
+    dof_parent: Vec<usize>,
+    /// Offset of each body's block in a packed array of `nv_j × nv_j` blocks.
+    block_offset: Vec<usize>,
+}
+
+/// No parent (index sentinel in the per-dof arrays).
+pub const NONE: usize = usize::MAX;
+
+impl MultibodyModel {
+    /// Number of configuration coordinates.
+    #[inline]
+    pub fn nq(&self) -> usize {
+        self.nq
+    }
+
+    /// Number of velocity coordinates (degrees of freedom).
+    #[inline]
+    pub fn nv(&self) -> usize {
+        self.nv
+    }
+
+    /// Number of bodies (= moving joints).
+    #[inline]
+    pub fn nbodies(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// The motion subspace columns of body `i`'s joint (child frame).
+    #[inline]
+    pub fn subspace(&self, i: usize) -> &[Motion] {
+        let j = &self.bodies[i].joint;
+        &self.subspace[j.v_index..j.v_index + j.kind.nv()]
+    }
+
+    /// The motion subspace column of velocity coordinate `k`.
+    #[inline]
+    pub fn subspace_column(&self, k: usize) -> Motion {
+        self.subspace[k]
+    }
+
+    /// The body that velocity coordinate `k` moves.
+    #[inline]
+    pub fn dof_body(&self, k: usize) -> usize {
+        self.dof_body[k]
+    }
+
+    /// `λ(k)` of the LTDL factorisation: the previous velocity coordinate towards the root.
+    #[inline]
+    pub fn dof_parent(&self, k: usize) -> usize {
+        self.dof_parent[k]
+    }
+
+    /// Offset of body `i`'s `nv_i × nv_i` block in packed per-joint storage.
+    #[inline]
+    pub(crate) fn block_offset(&self, i: usize) -> usize {
+        self.block_offset[i]
+    }
+
+    /// Total length of the packed per-joint blocks.
+    #[inline]
+    pub(crate) fn block_len(&self) -> usize {
+        *self.block_offset.last().unwrap_or(&0)
+    }
+
+    /// The neutral configuration (zero angles, identity quaternions).
+    pub fn neutral_configuration(&self) -> Vec<f64> {
+        let mut q = vec![0.0; self.nq];
+        for b in &self.bodies {
+            let j = &b.joint;
+            j.kind.neutral(&mut q[j.q_index..j.q_index + j.kind.nq()]);
+        }
+        q
+    }
+
+    /// The index of the body whose joint is named `name`.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.joint.name == name)
+    }
+
+    /// The index of the frame named `name`.
+    pub fn frame_index(&self, name: &str) -> Option<usize> {
+        self.frames.iter().position(|f| f.name == name)
+    }
+
+    /// `q̇ = G(q) v` for the whole tree, written into `qd` (lengths nq, nv, nq).
+    pub fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) -> Result<(), LengthError> {
+        check_len("q", q.len(), self.nq)?;
+        check_len("v", v.len(), self.nv)?;
+        check_len("qd", qd.len(), self.nq)?;
+        for b in &self.bodies {
+            let j = &b.joint;
+            let (qi, vi, nq) = (j.q_index, j.v_index, j.kind.nq());
+            j.kind.coordinate_rate(&q[qi..qi + nq], &v[vi..vi + j.kind.nv()], &mut qd[qi..qi + nq]);
+        }
+        Ok(())
+    }
+
+    /// `q ⊕ v dt` for the whole tree, written into `q_next` (see [`JointKind`]'s integration: additive
+    /// for one-coordinate joints, the exponential map for rotations).
+    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64, q_next: &mut [f64]) -> Result<(), LengthError> {
+        check_len("q", q.len(), self.nq)?;
+        check_len("v", v.len(), self.nv)?;
+        check_len("q_next", q_next.len(), self.nq)?;
+        for b in &self.bodies {
+            let j = &b.joint;
+            let (qi, vi, nq) = (j.q_index, j.v_index, j.kind.nq());
+            j.kind.integrate(&q[qi..qi + nq], &v[vi..vi + j.kind.nv()], dt, &mut q_next[qi..qi + nq]);
+        }
+        Ok(())
+    }
+}
+
+/// Builds a [`MultibodyModel`] body by body (parents first).
+#[derive(Debug, Clone, Default)]
+pub struct ModelBuilder {
+    name: String,
+    bodies: Vec<Body>,
+    frames: Vec<Frame>,
+    world_inertia: RigidInertia,
+    warnings: Vec<String>,
+    meshes: Vec<MeshRef>,
+    nq: usize,
+    nv: usize,
+}
+
+impl ModelBuilder {
+    /// An empty tree named `name`.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self { name: name.into(), ..Self::default() }
+    }
+
+    /// Adds a body moved by a joint of `kind` placed at `x_tree = jointframe_X_parent` in its parent
+    /// (`None`: the world), with spatial inertia `inertia` in its own frame. Returns its index.
+    ///
+    /// Axes must be finite and non-zero; they are normalised.
+    pub fn add_body(
+        &mut self,
+        name: impl Into<String>,
+        parent: Option<usize>,
+        joint_name: impl Into<String>,
+        kind: JointKind,
+        x_tree: Xform,
+        inertia: RigidInertia,
+    ) -> Result<usize, ModelError> {
+        let name = name.into();
+        let joint_name = joint_name.into();
+        if let Some(p) = parent {
+            if p >= self.bodies.len() {
+                return Err(ModelError::BadParent { body: name, parent: p });
+            }
+        }
+        let kind = normalise_axis(kind, &joint_name)?;
+        if !(x_tree.e.is_finite() && x_tree.r.is_finite()) {
+            return Err(ModelError::NonFinitePlacement { joint: joint_name });
+        }
+        if !(inertia.mass >= 0.0 && inertia.mass.is_finite() && inertia.h.is_finite() && inertia.i_o.is_finite()) {
+            return Err(ModelError::BadInertia { body: name });
+        }
+        let parent_link = match parent {
+            Some(p) => self.bodies[p].name.clone(),
+            None => "world".to_string(),
+        };
+        let joint = Joint {
+            name: joint_name,
+            kind,
+            x_tree,
+            q_index: self.nq,
+            v_index: self.nv,
+            limits: JointLimits::default(),
+            parent_link,
+        };
+        self.nq += kind.nq();
+        self.nv += kind.nv();
+        let index = self.bodies.len();
+        self.frames.push(Frame {
+            name: name.clone(),
+            body: Some(index),
+            x_from_body: Xform::IDENTITY,
+            origin: FrameOrigin::Body(index),
+        });
+        self.bodies.push(Body { name, parent, joint, inertia });
+        Ok(index)
+    }
+
+    /// Sets the limits of the joint of body `index`.
+    pub fn set_limits(&mut self, index: usize, limits: JointLimits) {
+        if let Some(b) = self.bodies.get_mut(index) {
+            b.joint.limits = limits;
+        }
+    }
+
+    /// Adds inertia (in the body's frame) to body `index`, or to the world for `None`.
+    pub fn add_inertia(&mut self, index: Option<usize>, inertia: RigidInertia) {
+        match index.and_then(|i| self.bodies.get_mut(i)) {
+            Some(b) => b.inertia += inertia,
+            None => self.world_inertia += inertia,
+        }
+    }
+
+    /// Adds a named frame fixed to `body` (`None`: the world) at `frame_X_body`.
+    pub fn add_frame(&mut self, name: impl Into<String>, body: Option<usize>, x_from_body: Xform, origin: FrameOrigin) {
+        self.frames.push(Frame { name: name.into(), body, x_from_body, origin });
+    }
+
+    /// Names the link on the parent side of body `index`'s joint (by default the parent body's name).
+    pub fn set_parent_link(&mut self, index: usize, parent_link: impl Into<String>) {
+        if let Some(b) = self.bodies.get_mut(index) {
+            b.joint.parent_link = parent_link.into();
+        }
+    }
+
+    /// Records a mesh named by the source.
+    pub fn add_mesh(&mut self, mesh: MeshRef) {
+        self.meshes.push(mesh);
+    }
+
+    /// Records a non-fatal remark.
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
+    }
+
+    /// Checks that every moving subtree has mass and builds the model.
+    pub fn build(self) -> Result<MultibodyModel, ModelError> {
+        let n = self.bodies.len();
+        // subtree masses, children before parents (parent[i] < i)
+        let mut subtree_mass: Vec<f64> = self.bodies.iter().map(|b| b.inertia.mass).collect();
+        for i in (0..n).rev() {
+            if let Some(p) = self.bodies[i].parent {
+                subtree_mass[p] += subtree_mass[i];
+            }
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            if subtree_mass[i] <= 0.0 {
+                return Err(ModelError::MasslessSubtree { joint: b.joint.name.clone(), body: b.name.clone() });
+            }
+        }
+        let mut subspace = Vec::with_capacity(self.nv);
+        let mut dof_body = Vec::with_capacity(self.nv);
+        let mut dof_parent = Vec::with_capacity(self.nv);
+        let mut block_offset = Vec::with_capacity(n + 1);
+        let mut offset = 0;
+        for (i, b) in self.bodies.iter().enumerate() {
+            let nv = b.joint.kind.nv();
+            // the last dof of the parent's joint precedes this joint's first dof
+            let mut previous = match b.parent {
+                Some(p) => self.bodies[p].joint.v_index + self.bodies[p].joint.kind.nv() - 1,
+                None => NONE,
+            };
+            for (k, s) in b.joint.kind.motion_subspace().into_iter().enumerate() {
+                subspace.push(s);
+                dof_body.push(i);
+                dof_parent.push(previous);
+                previous = b.joint.v_index + k;
+            }
+            block_offset.push(offset);
+            offset += nv * nv;
+        }
+        block_offset.push(offset);
+        let total_mass = self.world_inertia.mass + self.bodies.iter().map(|b| b.inertia.mass).sum::<f64>();
+        Ok(MultibodyModel {
+            name: self.name,
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            bodies: self.bodies,
+            frames: self.frames,
+            total_mass,
+            world_inertia: self.world_inertia,
+            warnings: self.warnings,
+            meshes: self.meshes,
+            nq: self.nq,
+            nv: self.nv,
+            subspace,
+            dof_body,
+            dof_parent,
+            block_offset,
+        })
+    }
+}
+
+fn normalise_axis(kind: JointKind, joint: &str) -> Result<JointKind, ModelError> {
+    let fix = |axis: DVec3| -> Result<DVec3, ModelError> {
+        let n = axis.length();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(ModelError::BadAxis { joint: joint.to_string(), axis: axis.to_array() });
+        }
+        Ok(axis / n)
+    };
+    Ok(match kind {
+        JointKind::Revolute { axis } => JointKind::Revolute { axis: fix(axis)? },
+        JointKind::Continuous { axis } => JointKind::Continuous { axis: fix(axis)? },
+        JointKind::Prismatic { axis } => JointKind::Prismatic { axis: fix(axis)? },
+        other => other,
+    })
+}

@@ -1,0 +1,663 @@
+//! URDF robots → [`MultibodyModel`], with errors that name the file, line, column and element.
+//!
+//! Reference: the URDF XML specification (ROS wiki, `urdf/XML/link`, `urdf/XML/joint`); frame
+//! conventions in `docs/multibody.md`.
+//!
+//! - A joint's `<origin xyz rpy>` places the joint frame (the child link's frame at `q = 0`) in the
+//!   parent link's frame, `R(rpy) = Rz(y) Ry(p) Rx(r)`; `<axis>` is in the joint frame (normalised).
+//! - `<inertial><origin>` places the centre of mass and the axes of `<inertia>` in the link frame.
+//! - `fixed` joints are merged: the child's inertia is added to the body it is fixed to and the
+//!   child stays a named frame.
+//! - Joint order: depth-first from the root link, children in the order their joints appear in the
+//!   file ([`ChildOrder::File`], the default) or sorted by joint name ([`ChildOrder::JointName`], the
+//!   order Pinocchio's reader produces). Iterative: a chain of 10⁵ links does not grow the call stack.
+//! - With `floating`, a `floating` joint named `root_joint` connects the world to the root link.
+//! - `<mesh filename>` of visual and collision geometry is recorded in `model.meshes`, resolved by
+//!   [`resolve_mesh`] (`package://`, relative and absolute paths) but never read; what cannot be
+//!   resolved, or leaves its directory, gives a warning.
+//!
+//! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
+//! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
+//! non-finite axes, revolute/prismatic joints without `<limit>` or with `lower > upper`, masses that
+//! are negative or not finite, inertias that are not positive definite or violate the triangle
+//! inequality, and movable joints whose subtree has no mass.
+//!
+//! Two cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
+//! (a frame, like `ee_link` of UR5 or `panda_link8`), and `mass > 0` with an all-zero tensor is a point
+//! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
+
+use super::joint::{JointKind, JointLimits};
+use super::model::{FrameOrigin, MeshRef, ModelBuilder, ModelError, MultibodyModel};
+use super::spatial::{rpy_rotation, RigidInertia, Xform};
+use crate::body::MassProperties;
+use crate::math::{DMat3, DVec3};
+use roxmltree::{Document, Node};
+use std::collections::HashMap;
+use std::path::{Component, Path, PathBuf};
+
+/// Files larger than this are refused before reading (bytes).
+pub const MAX_URDF_BYTES: u64 = 64 << 20;
+
+/// An error in a URDF file, with its position.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}:{column}: <{element}>: {kind}")]
+pub struct UrdfError {
+    /// The file (as given).
+    pub file: String,
+    /// 1-based line (0 when the file could not be read).
+    pub line: u32,
+    /// 1-based column.
+    pub column: u32,
+    /// The element concerned, e.g. `joint name="elbow"`.
+    pub element: String,
+    /// What is wrong (boxed: errors stay small on the happy path).
+    pub kind: Box<UrdfErrorKind>,
+}
+
+/// What is wrong in a URDF file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum UrdfErrorKind {
+    #[error("cannot read the file: {0}")]
+    Io(String),
+    #[error("the file is {size} bytes, more than the limit of {limit}")]
+    TooLarge { size: u64, limit: u64 },
+    #[error("malformed XML: {0}")]
+    Xml(String),
+    #[error("the root element must be <robot>, found <{0}>")]
+    NotRobot(String),
+    #[error("missing attribute '{0}'")]
+    MissingAttribute(&'static str),
+    #[error("missing element <{0}>")]
+    MissingElement(&'static str),
+    #[error("attribute '{attribute}': expected {expected}, got '{value}'")]
+    BadNumber { attribute: &'static str, value: String, expected: &'static str },
+    #[error("duplicate {what} name '{name}' (first at line {first_line})")]
+    Duplicate { what: &'static str, name: String, first_line: u32 },
+    #[error("unknown joint type '{0}'; valid types: revolute, continuous, prismatic, fixed, floating")]
+    UnknownJointType(String),
+    #[error("joint type '{0}' is not supported (valid: revolute, continuous, prismatic, fixed, floating)")]
+    UnsupportedJointType(String),
+    #[error("joint '{joint}' names {role} link '{link}', which does not exist")]
+    MissingLink { joint: String, role: &'static str, link: String },
+    #[error("link '{link}' is the child of two joints: '{first}' and '{second}'")]
+    TwoParents { link: String, first: String, second: String },
+    #[error("no root link (every link is some joint's child)")]
+    NoRoot,
+    #[error("several root links: {0:?} (a robot has exactly one link that is no joint's child)")]
+    SeveralRoots(Vec<String>),
+    #[error("kinematic cycle: {0}")]
+    Cycle(String),
+    #[error("the robot has no links")]
+    NoLinks,
+    #[error("axis {axis:?}: {why}")]
+    BadAxis { axis: [f64; 3], why: &'static str },
+    #[error("a {0} joint needs a <limit> element")]
+    MissingLimit(String),
+    #[error("limit: {0}")]
+    BadLimit(String),
+    #[error("mass must be finite and ≥ 0, and > 0 when an inertia tensor is given (got {0})")]
+    BadMass(f64),
+    #[error("inertia of link '{link}': {reason}")]
+    BadInertia { link: String, reason: String },
+    #[error("mimic joint '{joint}' refers to '{target}': {why}")]
+    BadMimic { joint: String, target: String, why: &'static str },
+    #[error("{0}")]
+    Model(ModelError),
+}
+
+/// Options of [`load_urdf`] and [`parse_urdf`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UrdfOptions {
+    /// Connect the root link to the world by a floating joint (a free-flyer base).
+    pub floating: bool,
+    /// The order of a link's children in the depth-first joint numbering.
+    pub order: ChildOrder,
+}
+
+/// The order in which the depth-first numbering visits a link's children.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChildOrder {
+    /// The order in which their joints appear in the file (the default).
+    #[default]
+    File,
+    /// Sorted by joint name (byte order). This is the order Pinocchio's URDF reader produces (it
+    /// keeps joints in a map sorted by name), so `q` and `v` then line up with Pinocchio's.
+    JointName,
+}
+
+/// Reads and parses a URDF file.
+pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+    let file = path.display().to_string();
+    let whole_file =
+        |kind| UrdfError { file: file.clone(), line: 0, column: 0, element: "robot".into(), kind: Box::new(kind) };
+    let meta = std::fs::metadata(path).map_err(|e| whole_file(UrdfErrorKind::Io(e.to_string())))?;
+    if meta.len() > MAX_URDF_BYTES {
+        return Err(whole_file(UrdfErrorKind::TooLarge { size: meta.len(), limit: MAX_URDF_BYTES }));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| whole_file(UrdfErrorKind::Io(e.to_string())))?;
+    parse_urdf(&text, &file, options)
+}
+
+/// Parses URDF text; `file` names it in errors.
+pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+    let doc = Document::parse(text).map_err(|e| {
+        let pos = e.pos();
+        UrdfError {
+            file: file.into(),
+            line: pos.row,
+            column: pos.col,
+            element: "xml".into(),
+            kind: Box::new(UrdfErrorKind::Xml(e.to_string())),
+        }
+    })?;
+    Parser { doc: &doc, file }.robot(options)
+}
+
+struct Parser<'a, 'input> {
+    doc: &'a Document<'input>,
+    file: &'a str,
+}
+
+/// A link as read.
+struct Link<'a, 'input> {
+    node: Node<'a, 'input>,
+    name: &'a str,
+    /// Spatial inertia in the link frame.
+    inertia: RigidInertia,
+}
+
+/// A joint as read.
+struct RawJoint<'a, 'input> {
+    node: Node<'a, 'input>,
+    name: &'a str,
+    /// `None` for fixed joints.
+    kind: Option<JointKind>,
+    parent: usize,
+    child: usize,
+    /// `jointframe_X_parentlink`.
+    x_origin: Xform,
+    limits: JointLimits,
+}
+
+fn describe(node: Node) -> String {
+    match node.attribute("name") {
+        Some(name) => format!("{} name=\"{}\"", node.tag_name().name(), name),
+        None => node.tag_name().name().to_string(),
+    }
+}
+
+impl<'a, 'input> Parser<'a, 'input> {
+    fn error(&self, node: Node, kind: UrdfErrorKind) -> UrdfError {
+        let pos = self.doc.text_pos_at(node.range().start);
+        UrdfError {
+            file: self.file.into(),
+            line: pos.row,
+            column: pos.col,
+            element: describe(node),
+            kind: Box::new(kind),
+        }
+    }
+
+    fn line(&self, node: Node) -> u32 {
+        self.doc.text_pos_at(node.range().start).row
+    }
+
+    fn attr(&self, node: Node<'a, 'input>, name: &'static str) -> Result<&'a str, UrdfError> {
+        node.attribute(name).ok_or_else(|| self.error(node, UrdfErrorKind::MissingAttribute(name)))
+    }
+
+    fn number(&self, node: Node, name: &'static str, default: Option<f64>) -> Result<f64, UrdfError> {
+        match node.attribute(name) {
+            None => default.ok_or_else(|| self.error(node, UrdfErrorKind::MissingAttribute(name))),
+            Some(text) => match text.trim().parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(self.error(
+                    node,
+                    UrdfErrorKind::BadNumber { attribute: name, value: text.into(), expected: "a finite number" },
+                )),
+            },
+        }
+    }
+
+    fn vec3(&self, node: Node, name: &'static str, default: DVec3) -> Result<DVec3, UrdfError> {
+        let Some(text) = node.attribute(name) else { return Ok(default) };
+        let bad = || {
+            self.error(
+                node,
+                UrdfErrorKind::BadNumber { attribute: name, value: text.into(), expected: "three finite numbers" },
+            )
+        };
+        let mut out = [0.0; 3];
+        let mut parts = text.split_whitespace();
+        for x in out.iter_mut() {
+            *x = parts.next().and_then(|p| p.parse::<f64>().ok()).filter(|x| x.is_finite()).ok_or_else(bad)?;
+        }
+        if parts.next().is_some() {
+            return Err(bad());
+        }
+        Ok(DVec3::from_array(out))
+    }
+
+    /// `<origin xyz rpy>` as the pair (rotation `parent_from_child`, translation), identity if absent.
+    fn origin(&self, parent: Node) -> Result<(DMat3, DVec3), UrdfError> {
+        match child(parent, "origin") {
+            None => Ok((DMat3::IDENTITY, DVec3::ZERO)),
+            Some(o) => Ok((rpy_rotation(self.vec3(o, "rpy", DVec3::ZERO)?), self.vec3(o, "xyz", DVec3::ZERO)?)),
+        }
+    }
+
+    fn robot(&self, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+        let root = self.doc.root_element();
+        if root.tag_name().name() != "robot" {
+            return Err(self.error(root, UrdfErrorKind::NotRobot(root.tag_name().name().into())));
+        }
+        let robot_name = root.attribute("name").unwrap_or("robot");
+        let mut warnings = Vec::new();
+        let mut warned_tags: Vec<&str> = Vec::new();
+        let mut links: Vec<Link> = Vec::new();
+        let mut link_index: HashMap<&str, usize> = HashMap::new();
+        let mut joint_nodes: Vec<Node> = Vec::new();
+        let mut meshes: Vec<MeshRef> = Vec::new();
+        for node in root.children().filter(|n| n.is_element()) {
+            match node.tag_name().name() {
+                "link" => {
+                    let name = self.attr(node, "name")?;
+                    if let Some(&first) = link_index.get(name) {
+                        let first_line = self.line(links[first].node);
+                        return Err(
+                            self.error(node, UrdfErrorKind::Duplicate { what: "link", name: name.into(), first_line })
+                        );
+                    }
+                    let inertia = self.inertial(node, name)?;
+                    self.meshes(node, name, &mut meshes, &mut warnings);
+                    link_index.insert(name, links.len());
+                    links.push(Link { node, name, inertia });
+                }
+                "joint" => joint_nodes.push(node),
+                "material" => {}
+                other => {
+                    if !warned_tags.contains(&other) {
+                        warned_tags.push(other);
+                        let pos = self.doc.text_pos_at(node.range().start);
+                        warnings.push(format!("{}:{}:{}: ignored <{}> elements", self.file, pos.row, pos.col, other));
+                    }
+                }
+            }
+        }
+        if links.is_empty() {
+            return Err(self.error(root, UrdfErrorKind::NoLinks));
+        }
+
+        // joints, checked against the links
+        let mut joints: Vec<RawJoint> = Vec::with_capacity(joint_nodes.len());
+        let mut joint_index: HashMap<&str, usize> = HashMap::new();
+        let mut parent_joint: Vec<Option<usize>> = vec![None; links.len()];
+        for &node in &joint_nodes {
+            let joint = self.joint(node, &link_index, &mut warnings)?;
+            if let Some(&first) = joint_index.get(joint.name) {
+                let first_line = self.line(joints[first].node);
+                return Err(
+                    self.error(node, UrdfErrorKind::Duplicate { what: "joint", name: joint.name.into(), first_line })
+                );
+            }
+            if let Some(first) = parent_joint[joint.child] {
+                return Err(self.error(
+                    node,
+                    UrdfErrorKind::TwoParents {
+                        link: links[joint.child].name.into(),
+                        first: joints[first].name.into(),
+                        second: joint.name.into(),
+                    },
+                ));
+            }
+            parent_joint[joint.child] = Some(joints.len());
+            joint_index.insert(joint.name, joints.len());
+            joints.push(joint);
+        }
+        self.check_mimics(&joint_nodes, &joint_index)?;
+
+        // the root, and cycles
+        let roots: Vec<usize> = (0..links.len()).filter(|&l| parent_joint[l].is_none()).collect();
+        if roots.len() > 1 {
+            let names = roots.iter().map(|&l| links[l].name.to_string()).collect();
+            return Err(self.error(links[roots[1]].node, UrdfErrorKind::SeveralRoots(names)));
+        }
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); links.len()];
+        for (j, joint) in joints.iter().enumerate() {
+            children[joint.parent].push(j);
+        }
+        if options.order == ChildOrder::JointName {
+            for list in children.iter_mut() {
+                list.sort_by(|&a, &b| joints[a].name.cmp(joints[b].name));
+            }
+        }
+        let Some(&root_link) = roots.first() else {
+            let (path, node) = cycle_from(0, &links, &joints, &parent_joint);
+            return Err(self.error(node, UrdfErrorKind::Cycle(path)));
+        };
+
+        // depth-first from the root, children in file order, with an explicit stack
+        let mut builder = ModelBuilder::new(robot_name);
+        // for each link: the body it belongs to (None: the world) and link_X_body
+        let mut link_body: Vec<Option<(Option<usize>, Xform)>> = vec![None; links.len()];
+        let root_body = if options.floating {
+            let b = builder
+                .add_body(
+                    links[root_link].name,
+                    None,
+                    "root_joint",
+                    JointKind::Floating,
+                    Xform::IDENTITY,
+                    links[root_link].inertia,
+                )
+                .map_err(|e| self.error(links[root_link].node, UrdfErrorKind::Model(e)))?;
+            Some(b)
+        } else {
+            builder.add_inertia(None, links[root_link].inertia);
+            builder.add_frame(links[root_link].name, None, Xform::IDENTITY, FrameOrigin::Root);
+            None
+        };
+        link_body[root_link] = Some((root_body, Xform::IDENTITY));
+        let mut stack: Vec<usize> = children[root_link].iter().rev().copied().collect();
+        while let Some(j) = stack.pop() {
+            let joint = &joints[j];
+            let Some((parent_body, parent_x_body)) = link_body[joint.parent] else { continue };
+            // X_T relative to the parent's body: jointframe_X_body = jointframe_X_parentlink · parentlink_X_body
+            let x_tree = joint.x_origin.compose(&parent_x_body);
+            let child_link = &links[joint.child];
+            match joint.kind {
+                None => {
+                    // fixed: the child link is part of the parent's body
+                    let inertia_in_body = child_link.inertia.transform_to_a(&x_tree);
+                    builder.add_inertia(parent_body, inertia_in_body);
+                    let origin = FrameOrigin::Fixed {
+                        joint: joint.name.to_string(),
+                        parent_link: links[joint.parent].name.to_string(),
+                    };
+                    builder.add_frame(child_link.name, parent_body, x_tree, origin);
+                    link_body[joint.child] = Some((parent_body, x_tree));
+                }
+                Some(kind) => {
+                    let b = builder
+                        .add_body(child_link.name, parent_body, joint.name, kind, x_tree, child_link.inertia)
+                        .map_err(|e| self.error(joint.node, UrdfErrorKind::Model(e)))?;
+                    builder.set_limits(b, joint.limits);
+                    builder.set_parent_link(b, links[joint.parent].name);
+                    link_body[joint.child] = Some((Some(b), Xform::IDENTITY));
+                }
+            }
+            stack.extend(children[joint.child].iter().rev());
+        }
+        if let Some(unreached) = (0..links.len()).find(|&l| link_body[l].is_none()) {
+            // every link has at most one parent and one link is the root: the others sit on cycles
+            let (path, node) = cycle_from(unreached, &links, &joints, &parent_joint);
+            return Err(self.error(node, UrdfErrorKind::Cycle(path)));
+        }
+        for w in warnings {
+            builder.warn(w);
+        }
+        for m in meshes {
+            builder.add_mesh(m);
+        }
+        builder.build().map_err(|e| {
+            let node = match &e {
+                ModelError::MasslessSubtree { joint, .. } => {
+                    joint_index.get(joint.as_str()).map(|&j| joints[j].node).unwrap_or(root)
+                }
+                _ => root,
+            };
+            self.error(node, UrdfErrorKind::Model(e))
+        })
+    }
+
+    /// Records the `<mesh filename>` of a link's `<visual>` and `<collision>` elements, resolved.
+    fn meshes(&self, link: Node, name: &str, meshes: &mut Vec<MeshRef>, warnings: &mut Vec<String>) {
+        let geometries = link
+            .children()
+            .filter(|n| n.is_element() && matches!(n.tag_name().name(), "visual" | "collision"))
+            .filter_map(|n| child(n, "geometry"))
+            .filter_map(|g| child(g, "mesh"));
+        for mesh in geometries {
+            let line = self.line(mesh);
+            let Some(uri) = mesh.attribute("filename") else {
+                warnings.push(format!("{}:{}: link '{}': <mesh> without a filename", self.file, line, name));
+                continue;
+            };
+            let path = match resolve_mesh(Path::new(self.file), uri) {
+                Ok(path) => Some(path),
+                Err(why) => {
+                    warnings
+                        .push(format!("{}:{}: link '{}': mesh '{}' not resolved: {}", self.file, line, name, uri, why));
+                    None
+                }
+            };
+            meshes.push(MeshRef { link: name.into(), uri: uri.into(), path, line });
+        }
+    }
+
+    /// `<inertial>` of a link: its spatial inertia in the link frame (zero without `<inertial>`).
+    fn inertial(&self, link: Node<'a, 'input>, name: &str) -> Result<RigidInertia, UrdfError> {
+        let Some(inertial) = child(link, "inertial") else { return Ok(RigidInertia::ZERO) };
+        let mass_node =
+            child(inertial, "mass").ok_or_else(|| self.error(inertial, UrdfErrorKind::MissingElement("mass")))?;
+        let mass = match mass_node.attribute("value").map(|t| t.trim().parse::<f64>()) {
+            None => return Err(self.error(mass_node, UrdfErrorKind::MissingAttribute("value"))),
+            Some(Ok(m)) if m.is_finite() && m >= 0.0 => m,
+            Some(Ok(m)) => return Err(self.error(mass_node, UrdfErrorKind::BadMass(m))),
+            Some(Err(_)) => return Err(self.error(mass_node, UrdfErrorKind::BadMass(f64::NAN))),
+        };
+        let (rot, com) = self.origin(inertial)?;
+        let node =
+            child(inertial, "inertia").ok_or_else(|| self.error(inertial, UrdfErrorKind::MissingElement("inertia")))?;
+        let ixx = self.number(node, "ixx", None)?;
+        let ixy = self.number(node, "ixy", Some(0.0))?;
+        let ixz = self.number(node, "ixz", Some(0.0))?;
+        let iyy = self.number(node, "iyy", None)?;
+        let iyz = self.number(node, "iyz", Some(0.0))?;
+        let izz = self.number(node, "izz", None)?;
+        let tensor = DMat3::from_cols(DVec3::new(ixx, ixy, ixz), DVec3::new(ixy, iyy, iyz), DVec3::new(ixz, iyz, izz));
+        if tensor == DMat3::ZERO {
+            // mass 0 and no tensor: a massless link (a frame); mass > 0 and no tensor: a point mass
+            return Ok(RigidInertia::from_com(mass, com, DMat3::ZERO));
+        }
+        if mass == 0.0 {
+            return Err(self.error(mass_node, UrdfErrorKind::BadMass(mass)));
+        }
+        // positive definite and the triangle inequality, on the eigenvalues
+        MassProperties::from_tensor(mass, tensor)
+            .map_err(|e| self.error(node, UrdfErrorKind::BadInertia { link: name.into(), reason: e.to_string() }))?;
+        // I_c in the link axes: R I Rᵀ; then shifted to the link origin
+        Ok(RigidInertia::from_com(mass, com, rot * tensor * rot.transpose()))
+    }
+
+    fn joint(
+        &self,
+        node: Node<'a, 'input>,
+        link_index: &HashMap<&str, usize>,
+        warnings: &mut Vec<String>,
+    ) -> Result<RawJoint<'a, 'input>, UrdfError> {
+        let name = self.attr(node, "name")?;
+        let ty = self.attr(node, "type")?;
+        let link_of = |role: &'static str| -> Result<usize, UrdfError> {
+            let elem = child(node, role).ok_or_else(|| self.error(node, UrdfErrorKind::MissingElement(role)))?;
+            let link = self.attr(elem, "link")?;
+            link_index.get(link).copied().ok_or_else(|| {
+                self.error(elem, UrdfErrorKind::MissingLink { joint: name.into(), role, link: link.into() })
+            })
+        };
+        let parent = link_of("parent")?;
+        let child_link = link_of("child")?;
+        let (rot, xyz) = self.origin(node)?;
+        let x_origin = Xform::from_pose(rot, xyz);
+        let mut limits = JointLimits::default();
+        if let Some(d) = child(node, "dynamics") {
+            limits.damping = self.number(d, "damping", Some(0.0))?;
+            limits.friction = self.number(d, "friction", Some(0.0))?;
+        }
+        let mut axis = || -> Result<DVec3, UrdfError> {
+            let Some(a) = child(node, "axis") else { return Ok(DVec3::X) };
+            let axis = self.vec3(a, "xyz", DVec3::X)?;
+            let n = axis.length();
+            if !(1e-6..=1e6).contains(&n) {
+                let why = if n == 0.0 { "the zero vector has no direction" } else { "its norm is outside [1e-6, 1e6]" };
+                return Err(self.error(a, UrdfErrorKind::BadAxis { axis: axis.to_array(), why }));
+            }
+            if (n - 1.0).abs() > 1e-9 {
+                let pos = self.doc.text_pos_at(a.range().start);
+                warnings.push(format!(
+                    "{}:{}:{}: joint '{}': axis {:?} normalised (norm {})",
+                    self.file,
+                    pos.row,
+                    pos.col,
+                    name,
+                    axis.to_array(),
+                    n
+                ));
+            }
+            Ok(axis / n)
+        };
+        let kind = match ty {
+            "fixed" => None,
+            "revolute" => Some(JointKind::Revolute { axis: axis()? }),
+            "continuous" => Some(JointKind::Continuous { axis: axis()? }),
+            "prismatic" => Some(JointKind::Prismatic { axis: axis()? }),
+            "floating" => Some(JointKind::Floating),
+            "planar" => return Err(self.error(node, UrdfErrorKind::UnsupportedJointType(ty.into()))),
+            other => return Err(self.error(node, UrdfErrorKind::UnknownJointType(other.into()))),
+        };
+        match (ty, child(node, "limit")) {
+            ("revolute" | "prismatic", None) => return Err(self.error(node, UrdfErrorKind::MissingLimit(ty.into()))),
+            (_, Some(l)) => {
+                let lower = self.number(l, "lower", Some(0.0))?;
+                let upper = self.number(l, "upper", Some(0.0))?;
+                if ty != "continuous" {
+                    if lower > upper {
+                        return Err(self.error(l, UrdfErrorKind::BadLimit(format!("lower {lower} > upper {upper}"))));
+                    }
+                    limits.position = Some((lower, upper));
+                }
+                for (attr, slot) in [("effort", &mut limits.effort), ("velocity", &mut limits.velocity)] {
+                    if l.attribute(attr).is_some() {
+                        let x = self.number(l, attr, None)?;
+                        if x < 0.0 {
+                            return Err(self.error(l, UrdfErrorKind::BadLimit(format!("{attr} {x} < 0"))));
+                        }
+                        *slot = Some(x);
+                    }
+                }
+            }
+            _ => {}
+        }
+        Ok(RawJoint { node, name, kind, parent, child: child_link, x_origin, limits })
+    }
+
+    fn check_mimics(&self, joint_nodes: &[Node], joint_index: &HashMap<&str, usize>) -> Result<(), UrdfError> {
+        for &node in joint_nodes {
+            if let Some(m) = child(node, "mimic") {
+                let name = node.attribute("name").unwrap_or("");
+                let target = self.attr(m, "joint")?;
+                let why = if target == name {
+                    "a joint cannot mimic itself"
+                } else if !joint_index.contains_key(target) {
+                    "no joint has that name"
+                } else {
+                    continue;
+                };
+                return Err(self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why }));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The first child element named `tag`.
+fn child<'a, 'input>(node: Node<'a, 'input>, tag: &str) -> Option<Node<'a, 'input>> {
+    node.children().find(|n| n.is_element() && n.tag_name().name() == tag)
+}
+
+/// Follows parent joints from `start` until a link repeats and prints the cycle
+/// `a -(j1)-> b -(j2)-> a` (parent to child); also returns a joint node on it.
+fn cycle_from<'a, 'input>(
+    start: usize,
+    links: &[Link<'a, 'input>],
+    joints: &[RawJoint<'a, 'input>],
+    parent_joint: &[Option<usize>],
+) -> (String, Node<'a, 'input>) {
+    let mut seen = vec![false; links.len()];
+    let mut l = start;
+    // walk up until a link repeats: that link is on the cycle
+    while !seen[l] {
+        seen[l] = true;
+        match parent_joint[l] {
+            Some(j) => l = joints[j].parent,
+            None => return (format!("{} has no parent", links[l].name), links[l].node),
+        }
+    }
+    let on_cycle = l;
+    let mut path = vec![links[on_cycle].name.to_string()];
+    let mut node = links[on_cycle].node;
+    while let Some(j) = parent_joint[l] {
+        node = joints[j].node;
+        let p = joints[j].parent;
+        path.push(format!("({})", joints[j].name));
+        path.push(links[p].name.to_string());
+        l = p;
+        if l == on_cycle {
+            break;
+        }
+    }
+    // the walk went child → parent: print it parent → child
+    path.reverse();
+    (path.join(" → "), node)
+}
+
+/// Resolves a mesh URI of the URDF file `urdf` without touching the file system:
+///
+/// - `package://PKG/REST`: `REST` under the nearest directory named `PKG` that contains the URDF file
+///   (how robot description packages are laid out, e.g. `example-robot-data/robots/…`);
+/// - `file:///ABS` and absolute paths: as written;
+/// - a relative path: relative to the URDF file's directory.
+///
+/// `..` components are applied lexically; a package path or a relative path that climbs out of the
+/// directory it is resolved against is refused (reliability catalogue U17), as is any other scheme.
+pub fn resolve_mesh(urdf: &Path, uri: &str) -> Result<PathBuf, String> {
+    let urdf_dir = urdf.parent().unwrap_or(Path::new(""));
+    if let Some(rest) = uri.strip_prefix("package://") {
+        let (package, relative) = rest.split_once('/').ok_or("no path after the package name")?;
+        let root = urdf_dir
+            .ancestors()
+            .find(|a| a.file_name().is_some_and(|n| n == package))
+            .ok_or_else(|| format!("no directory named '{package}' contains {}", urdf.display()))?;
+        return inside(root, relative);
+    }
+    if let Some(absolute) = uri.strip_prefix("file://") {
+        return Ok(PathBuf::from(absolute));
+    }
+    if let Some((scheme, _)) = uri.split_once("://") {
+        return Err(format!("unsupported scheme '{scheme}://'"));
+    }
+    if Path::new(uri).is_absolute() {
+        return Ok(PathBuf::from(uri));
+    }
+    inside(urdf_dir, uri)
+}
+
+/// `root/relative` with `.` and `..` applied, refused if it leaves `root`.
+fn inside(root: &Path, relative: &str) -> Result<PathBuf, String> {
+    let mut parts: Vec<&std::ffi::OsStr> = Vec::new();
+    for c in Path::new(relative).components() {
+        match c {
+            Component::Normal(p) => parts.push(p),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if parts.pop().is_none() {
+                    return Err(format!("'{relative}' leaves {}", root.display()));
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return Err(format!("'{relative}' is not relative")),
+        }
+    }
+    let mut path = root.to_path_buf();
+    path.extend(parts);
+    Ok(path)
+}

@@ -1,0 +1,424 @@
+//! URDF reading: frames, merging of fixed joints, joint order, and every rejected input with its
+//! file, line, column and element (reliability catalogue U01–U13, U18, U19).
+
+mod multibody_common;
+
+use multibody_common::assert_close;
+use std::path::{Path, PathBuf};
+use tumble::math::{DMat3, DVec3};
+use tumble::multibody::urdf::resolve_mesh;
+use tumble::multibody::{
+    aba, crba, parse_urdf, rnea, ChildOrder, CrbaError, JointKind, UrdfError, UrdfErrorKind, UrdfOptions, Workspace,
+};
+
+const INERTIAL: &str =
+    r#"<inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>"#;
+
+fn link(name: &str) -> String {
+    format!(r#"<link name="{name}">{INERTIAL}</link>"#)
+}
+
+fn joint(name: &str, ty: &str, parent: &str, child: &str) -> String {
+    let limit = if ty == "revolute" || ty == "prismatic" {
+        r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#
+    } else {
+        ""
+    };
+    format!(r#"<joint name="{name}" type="{ty}"><parent link="{parent}"/><child link="{child}"/>{limit}</joint>"#)
+}
+
+fn parse(text: &str) -> Result<tumble::multibody::MultibodyModel, UrdfError> {
+    parse_urdf(text, "robot.urdf", UrdfOptions::default())
+}
+
+fn err(text: &str) -> UrdfError {
+    match parse(text) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// The text of one line per element, so that line numbers are easy to state.
+fn robot(lines: &[String]) -> String {
+    let mut s = String::from("<robot name=\"r\">\n");
+    for l in lines {
+        s.push_str(l);
+        s.push('\n');
+    }
+    s.push_str("</robot>\n");
+    s
+}
+
+#[test]
+fn u01_malformed_xml_gives_row_and_column() {
+    let e = err("<robot name=\"r\">\n  <link name=\"a\">\n</robot>\n");
+    assert!(matches!(*e.kind, UrdfErrorKind::Xml(_)), "{e}");
+    assert_eq!(e.line, 3, "{e}");
+    assert!(e.to_string().starts_with("robot.urdf:3:"), "{e}");
+    let e = err("<robot name='r><link name=\"a\"/></robot>");
+    assert!(matches!(*e.kind, UrdfErrorKind::Xml(_)), "{e}");
+}
+
+#[test]
+fn u02_dtds_are_rejected_unexpanded() {
+    let laughs = r#"<?xml version="1.0"?><!DOCTYPE lolz [<!ENTITY lol "lol"><!ENTITY lol2 "&lol;&lol;&lol;">]><robot name="&lol2;"><link name="a"/></robot>"#;
+    assert!(matches!(*err(laughs).kind, UrdfErrorKind::Xml(_)));
+    let xxe = r#"<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"><link name="a"/></robot>"#;
+    let e = err(xxe);
+    assert!(matches!(*e.kind, UrdfErrorKind::Xml(_)));
+    assert!(!e.to_string().contains("root:"), "{e}");
+}
+
+#[test]
+fn u03_deep_nesting_is_an_error_or_a_model_never_an_abort() {
+    let depth = 100_000;
+    let mut text = String::from("<robot name=\"r\"><link name=\"a\">");
+    text.push_str(&"<x>".repeat(depth));
+    text.push_str(&"</x>".repeat(depth));
+    text.push_str("</link></robot>");
+    // either outcome is fine; reaching the next line is the test
+    let _ = parse(&text);
+}
+
+#[test]
+fn u04_joint_naming_a_missing_link() {
+    let text = robot(&[link("a"), joint("j", "continuous", "a", "ghost")]);
+    let e = err(&text);
+    assert_eq!(*e.kind, UrdfErrorKind::MissingLink { joint: "j".into(), role: "child", link: "ghost".into() }, "{e}");
+    assert_eq!(e.line, 3, "{e}");
+}
+
+#[test]
+fn u05_cycles_print_their_path() {
+    let text = robot(&[
+        link("root"),
+        link("a"),
+        link("b"),
+        joint("j0", "continuous", "root", "a"),
+        joint("j1", "continuous", "a", "b"),
+        joint("j2", "continuous", "b", "a"),
+    ]);
+    // a has two parents (j0, j2): that is caught first
+    assert!(matches!(*err(&text).kind, UrdfErrorKind::TwoParents { .. }));
+    let text = robot(&[
+        link("root"),
+        link("a"),
+        link("b"),
+        joint("j1", "continuous", "a", "b"),
+        joint("j2", "continuous", "b", "a"),
+    ]);
+    let e = err(&text);
+    match e.kind.as_ref() {
+        UrdfErrorKind::Cycle(path) => {
+            assert!(path.contains("(j1)") && path.contains("(j2)"), "{e}");
+            assert!(path.starts_with('a') || path.starts_with('b'), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // every link a child: no root at all
+    let text = robot(&[link("a"), link("b"), joint("j1", "continuous", "a", "b"), joint("j2", "continuous", "b", "a")]);
+    assert!(matches!(*err(&text).kind, UrdfErrorKind::Cycle(_)), "{}", err(&text));
+}
+
+#[test]
+fn u06_several_roots_are_listed() {
+    let text = robot(&[link("a"), link("b"), link("c"), joint("j", "continuous", "a", "c")]);
+    let e = err(&text);
+    assert_eq!(*e.kind, UrdfErrorKind::SeveralRoots(vec!["a".into(), "b".into()]), "{e}");
+    assert_eq!(e.line, 3, "{e}");
+}
+
+#[test]
+fn u07_a_link_with_two_parents() {
+    let text = robot(&[
+        link("a"),
+        link("b"),
+        link("c"),
+        joint("j1", "continuous", "a", "c"),
+        joint("j2", "continuous", "b", "c"),
+    ]);
+    let e = err(&text);
+    assert_eq!(*e.kind, UrdfErrorKind::TwoParents { link: "c".into(), first: "j1".into(), second: "j2".into() });
+    assert_eq!(e.line, 6, "{e}");
+    assert!(e.element.contains("j2"), "{e}");
+}
+
+#[test]
+fn u08_duplicate_names() {
+    let e = err(&robot(&[link("a"), link("a")]));
+    assert_eq!(*e.kind, UrdfErrorKind::Duplicate { what: "link", name: "a".into(), first_line: 2 });
+    assert_eq!(e.line, 3);
+    let e = err(&robot(&[
+        link("a"),
+        link("b"),
+        link("c"),
+        joint("j", "continuous", "a", "b"),
+        joint("j", "continuous", "a", "c"),
+    ]));
+    assert_eq!(*e.kind, UrdfErrorKind::Duplicate { what: "joint", name: "j".into(), first_line: 5 });
+}
+
+#[test]
+fn u09_unknown_joint_types_list_the_valid_ones() {
+    let e = err(&robot(&[link("a"), link("b"), joint("j", "hinge", "a", "b")]));
+    assert_eq!(*e.kind, UrdfErrorKind::UnknownJointType("hinge".into()));
+    assert_eq!(e.line, 4);
+    assert!(e.to_string().contains("revolute, continuous, prismatic, fixed, floating"), "{e}");
+    let e = err(&robot(&[link("a"), link("b"), joint("j", "planar", "a", "b")]));
+    assert!(matches!(*e.kind, UrdfErrorKind::UnsupportedJointType(_)), "{e}");
+}
+
+#[test]
+fn u10_zero_and_non_finite_axes_are_errors_non_unit_axes_are_normalised() {
+    for axis in ["0 0 0", "nan 0 1", "1 inf 0", "1 0"] {
+        let j = format!(
+            r#"<joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="{axis}"/></joint>"#
+        );
+        let e = err(&robot(&[link("a"), link("b"), j]));
+        assert!(matches!(*e.kind, UrdfErrorKind::BadAxis { .. } | UrdfErrorKind::BadNumber { .. }), "{axis}: {e}");
+        assert_eq!(e.line, 4, "{e}");
+    }
+    let j = r#"<joint name="j" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 2"/></joint>"#;
+    let model = parse(&robot(&[link("a"), link("b"), j.into()])).unwrap();
+    assert_eq!(model.bodies[0].joint.kind, JointKind::Continuous { axis: DVec3::Z });
+    assert!(model.warnings.iter().any(|w| w.contains("normalised")), "{:?}", model.warnings);
+}
+
+#[test]
+fn u11_limits() {
+    let no_limit = r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint>"#;
+    assert_eq!(
+        *err(&robot(&[link("a"), link("b"), no_limit.into()])).kind,
+        UrdfErrorKind::MissingLimit("revolute".into())
+    );
+    let inverted = r#"<joint name="j" type="prismatic"><parent link="a"/><child link="b"/><limit lower="1" upper="-1" effort="1" velocity="1"/></joint>"#;
+    assert!(matches!(*err(&robot(&[link("a"), link("b"), inverted.into()])).kind, UrdfErrorKind::BadLimit(_)));
+    let negative = r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="-1" upper="1" effort="-1" velocity="1"/></joint>"#;
+    assert!(matches!(*err(&robot(&[link("a"), link("b"), negative.into()])).kind, UrdfErrorKind::BadLimit(_)));
+    // continuous joints need none
+    assert!(parse(&robot(&[link("a"), link("b"), joint("j", "continuous", "a", "b")])).is_ok());
+}
+
+#[test]
+fn u12_a_movable_joint_whose_subtree_has_no_mass() {
+    let text = robot(&[
+        link("a"),
+        link("b"),
+        "<link name=\"c\"/>".into(),
+        joint("j1", "continuous", "a", "b"),
+        joint("j2", "continuous", "b", "c"),
+    ]);
+    let e = err(&text);
+    assert!(matches!(*e.kind, UrdfErrorKind::Model(_)), "{e}");
+    assert!(e.element.contains("j2") && e.to_string().contains("without mass"), "{e}");
+    assert_eq!(e.line, 6);
+    // a massless link on a fixed joint is merged and harmless; a massless link with a massive child is fine
+    let text = robot(&[
+        link("a"),
+        "<link name=\"b\"/>".into(),
+        "<link name=\"tip\"/>".into(),
+        link("c"),
+        joint("j1", "continuous", "a", "b"),
+        joint("fix", "fixed", "b", "tip"),
+        joint("j2", "continuous", "b", "c"),
+    ]);
+    assert!(parse(&text).is_ok());
+}
+
+#[test]
+fn u13_bad_masses_and_inertias() {
+    let with_inertial = |inertial: &str| {
+        robot(&[link("a"), format!("<link name=\"b\">{inertial}</link>"), joint("j", "continuous", "a", "b")])
+    };
+    for mass in ["-1", "nan", "inf", "heavy"] {
+        let e = err(&with_inertial(&format!(
+            r#"<inertial><mass value="{mass}"/><inertia ixx="1" iyy="1" izz="1"/></inertial>"#
+        )));
+        assert!(matches!(*e.kind, UrdfErrorKind::BadMass(_)), "{mass}: {e}");
+        assert_eq!(e.line, 3);
+    }
+    let e = err(&with_inertial(r#"<inertial><inertia ixx="1" iyy="1" izz="1"/></inertial>"#));
+    assert_eq!(*e.kind, UrdfErrorKind::MissingElement("mass"));
+    // zero mass with a tensor
+    assert!(matches!(
+        *err(&with_inertial(r#"<inertial><mass value="0"/><inertia ixx="1" iyy="1" izz="1"/></inertial>"#)).kind,
+        UrdfErrorKind::BadMass(_)
+    ));
+    // not positive definite; triangle inequality
+    for (tensor, word) in
+        [(r#"ixx="1" iyy="-1" izz="1""#, "positive definite"), (r#"ixx="1" iyy="1" izz="3""#, "triangle")]
+    {
+        let e = err(&with_inertial(&format!(r#"<inertial><mass value="1"/><inertia {tensor}/></inertial>"#)));
+        assert!(matches!(*e.kind, UrdfErrorKind::BadInertia { .. }) && e.to_string().contains(word), "{e}");
+        assert!(e.element.starts_with("inertia"), "{e}");
+    }
+}
+
+#[test]
+fn u18_extension_tags_warn_once_and_mimics_are_checked() {
+    let text = robot(&[
+        link("a"),
+        link("b"),
+        joint("j", "continuous", "a", "b"),
+        "<gazebo reference=\"a\"/>".into(),
+        "<gazebo reference=\"b\"/>".into(),
+        "<transmission name=\"t\"/>".into(),
+    ]);
+    let model = parse(&text).unwrap();
+    assert_eq!(model.warnings.len(), 2, "{:?}", model.warnings);
+    assert!(model.warnings[0].contains("robot.urdf:5:") && model.warnings[0].contains("<gazebo>"));
+    let mimic = |target: &str| {
+        format!(
+            r#"<joint name="j" type="continuous"><parent link="a"/><child link="b"/><mimic joint="{target}"/></joint>"#
+        )
+    };
+    assert!(matches!(*err(&robot(&[link("a"), link("b"), mimic("j")])).kind, UrdfErrorKind::BadMimic { .. }));
+    assert!(matches!(*err(&robot(&[link("a"), link("b"), mimic("nobody")])).kind, UrdfErrorKind::BadMimic { .. }));
+}
+
+/// A chain of 10⁵ links loads and every algorithm runs on it (no recursion anywhere).
+#[test]
+fn u19_a_chain_of_100000_links() {
+    let n = 100_000;
+    let mut lines = vec![link("l0")];
+    for i in 1..=n {
+        lines.push(link(&format!("l{i}")));
+        lines.push(format!(
+            r#"<joint name="j{i}" type="continuous"><parent link="l{}"/><child link="l{i}"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/></joint>"#,
+            i - 1
+        ));
+    }
+    let model = parse(&robot(&lines)).unwrap();
+    assert_eq!(model.nv(), n);
+    let mut ws = Workspace::new(&model);
+    let q = vec![0.01; n];
+    let v = vec![0.0; n];
+    let mut tau = vec![0.0; n];
+    rnea(&model, &mut ws, &q, &v, &v, &mut tau).unwrap();
+    let mut qdd = vec![0.0; n];
+    aba(&model, &mut ws, &q, &v, &tau, &mut qdd).unwrap();
+    assert!(qdd.iter().all(|x| x.abs() < 1e-6), "gravity compensation holds the chain still");
+    // a dense 10⁵ × 10⁵ mass matrix (80 GB) is refused, not attempted
+    assert!(matches!(crba(&model, &mut ws, &q), Err(CrbaError::TooLarge(_))));
+}
+
+/// `rpy` is `Rz(y) Ry(p) Rx(r)`; the joint origin places the joint frame in the parent; the inertial
+/// origin places the centre of mass and the tensor's axes in the link frame.
+#[test]
+fn frames_follow_the_urdf_conventions() {
+    let text = robot(&[
+        "<link name=\"base\"/>".into(),
+        r#"<link name="arm"><inertial><origin xyz="0.5 0 0" rpy="0 0 1.5707963267948966"/><mass value="2"/><inertia ixx="0.1" iyy="0.2" izz="0.25"/></inertial></link>"#.into(),
+        r#"<joint name="shoulder" type="continuous"><parent link="base"/><child link="arm"/><origin xyz="0 0 1" rpy="0.3 0.2 0.1"/><axis xyz="0 0 1"/></joint>"#.into(),
+    ]);
+    let model = parse(&text).unwrap();
+    let b = &model.bodies[0];
+    let r_expected = DMat3::from_rotation_z(0.1) * DMat3::from_rotation_y(0.2) * DMat3::from_rotation_x(0.3);
+    assert_close(
+        "rotation of the joint origin",
+        &b.joint.x_tree.rotation_a_from_b().to_cols_array(),
+        &r_expected.to_cols_array(),
+        1e-15,
+    );
+    assert_close("joint origin", &b.joint.x_tree.r.to_array(), &[0.0, 0.0, 1.0], 0.0);
+    // centre of mass at (0.5, 0, 0); tensor axes turned 90° about z: ixx and iyy swap
+    assert_close("first moment", &b.inertia.h.to_array(), &[1.0, 0.0, 0.0], 1e-15);
+    // Ī_o = R I Rᵀ + m (|c|² 1 − c cᵀ) = diag(0.2, 0.1, 0.25) + 2 diag(0, 0.25, 0.25)
+    let i_o = b.inertia.i_o;
+    assert_close("rotational inertia", &[i_o.x_axis.x, i_o.y_axis.y, i_o.z_axis.z], &[0.2, 0.6, 0.75], 1e-15);
+}
+
+/// Fixed joints merge the child's inertia into the parent body, and the merged model has the same
+/// dynamics as the equivalent single link.
+#[test]
+fn fixed_joints_merge_inertia_and_keep_frames() {
+    let merged = robot(&[
+        "<link name=\"base\"/>".into(),
+        r#"<link name="arm"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>"#.into(),
+        r#"<link name="tip"><inertial><origin xyz="0 0 0.2"/><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>"#.into(),
+        r#"<joint name="j" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/></joint>"#.into(),
+        r#"<joint name="weld" type="fixed"><parent link="arm"/><child link="tip"/><origin xyz="0 0 0.3"/></joint>"#.into(),
+    ]);
+    let single = robot(&[
+        "<link name=\"base\"/>".into(),
+        // two unit masses at z = 0 and z = 0.5: m = 2, c = 0.25, I_c = 0.2 + 2 · 0.25² about x and y
+        r#"<link name="arm"><inertial><origin xyz="0 0 0.25"/><mass value="2"/><inertia ixx="0.325" iyy="0.325" izz="0.2"/></inertial></link>"#.into(),
+        r#"<joint name="j" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/></joint>"#.into(),
+    ]);
+    let a = parse(&merged).unwrap();
+    let b = parse(&single).unwrap();
+    assert_eq!(a.nv(), 1);
+    let tip = a.frame_index("tip").unwrap();
+    assert_eq!(a.frames[tip].body, Some(0));
+    for q in [0.0, 0.7, -2.0] {
+        let (mut wa, mut wb) = (Workspace::new(&a), Workspace::new(&b));
+        let ma = crba(&a, &mut wa, &[q]).unwrap()[(0, 0)];
+        let mb = crba(&b, &mut wb, &[q]).unwrap()[(0, 0)];
+        assert!((ma - mb).abs() < 1e-14, "{ma} vs {mb}");
+        let (mut ta, mut tb) = ([0.0], [0.0]);
+        rnea(&a, &mut wa, &[q], &[1.3], &[0.4], &mut ta).unwrap();
+        rnea(&b, &mut wb, &[q], &[1.3], &[0.4], &mut tb).unwrap();
+        assert!((ta[0] - tb[0]).abs() < 1e-13, "{} vs {}", ta[0], tb[0]);
+    }
+}
+
+/// Depth-first, children in file order by default, or sorted by joint name.
+#[test]
+fn joint_order_is_depth_first() {
+    let text = robot(&[
+        link("root"),
+        link("l1"),
+        link("l2"),
+        link("l3"),
+        joint("zeta", "continuous", "root", "l1"),
+        joint("alpha", "continuous", "root", "l3"),
+        joint("mid", "continuous", "l1", "l2"),
+    ]);
+    let names = |order| -> Vec<String> {
+        let m = parse_urdf(&text, "r.urdf", UrdfOptions { floating: false, order }).unwrap();
+        m.bodies.iter().map(|b| b.joint.name.clone()).collect()
+    };
+    assert_eq!(names(ChildOrder::File), ["zeta", "mid", "alpha"]);
+    assert_eq!(names(ChildOrder::JointName), ["alpha", "zeta", "mid"]);
+    let floating = parse_urdf(&text, "r.urdf", UrdfOptions { floating: true, order: ChildOrder::File }).unwrap();
+    assert_eq!(floating.bodies[0].joint.name, "root_joint");
+    assert_eq!((floating.nq(), floating.nv()), (10, 9));
+}
+
+/// Mesh URIs: `package://` under the nearest directory of that name holding the URDF, relative paths
+/// under the URDF's directory, nothing that climbs out of them (U17), no other scheme.
+#[test]
+fn u15_u17_mesh_paths_are_resolved_without_leaving_their_roots() {
+    let urdf = Path::new("/data/example-robot-data/robots/panda_description/urdf/panda.urdf");
+    assert_eq!(
+        resolve_mesh(urdf, "package://example-robot-data/robots/panda_description/meshes/link0.dae"),
+        Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/meshes/link0.dae"))
+    );
+    assert_eq!(
+        resolve_mesh(urdf, "meshes/./hand.stl"),
+        Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/urdf/meshes/hand.stl"))
+    );
+    assert_eq!(resolve_mesh(urdf, "/abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
+    assert_eq!(resolve_mesh(urdf, "file:///abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
+    for bad in [
+        "package://example-robot-data/../../etc/passwd",
+        "../../../../etc/passwd",
+        "package://nowhere/mesh.stl",
+        "http://example.com/mesh.stl",
+    ] {
+        assert!(resolve_mesh(urdf, bad).is_err(), "{bad}");
+    }
+    // recorded on the model, with a warning for what is not resolved
+    let text = robot(&[r#"<link name="a"><visual><geometry><mesh filename="meshes/a.stl"/></geometry></visual>
+           <collision><geometry><mesh filename="package://nowhere/a.stl"/></geometry></collision></link>"#
+        .into()]);
+    let model = parse_urdf(&text, "/robots/r.urdf", UrdfOptions::default()).unwrap();
+    assert_eq!(model.meshes.len(), 2);
+    assert_eq!(model.meshes[0].path.as_deref(), Some(Path::new("/robots/meshes/a.stl")));
+    assert_eq!(model.meshes[1].path, None);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("package://nowhere/a.stl") && w.contains("/robots/r.urdf:3")),
+        "{:?}",
+        model.warnings
+    );
+}
