@@ -37,7 +37,9 @@ pub const YOSHIDA_W0: f64 = -1.702_414_383_919_315_3;
 pub fn splitting_step(rhs: &BodyRhs, state: &mut BodyState, h: f64) {
     let mut l_body = rhs.mass.inertia_body * state.omega_body;
     s2(rhs, state, &mut l_body, h);
-    state.omega_body = l_body * rhs.mass.inv_inertia_body;
+    // ω = L / I by division: with the cached reciprocal, the round trip L → ω → L would carry the
+    // fixed rounding error of 1/I into |L| at every step, a drift instead of round-off
+    state.omega_body = l_body / rhs.mass.inertia_body;
     state.orientation = renormalize(state.orientation);
 }
 
@@ -48,7 +50,7 @@ pub fn splitting4_step(rhs: &BodyRhs, state: &mut BodyState, h: f64) {
     s2(rhs, state, &mut l_body, YOSHIDA_W1 * h);
     s2(rhs, state, &mut l_body, YOSHIDA_W0 * h);
     s2(rhs, state, &mut l_body, YOSHIDA_W1 * h);
-    state.omega_body = l_body * rhs.mass.inv_inertia_body;
+    state.omega_body = l_body / rhs.mass.inertia_body;
     state.orientation = renormalize(state.orientation);
 }
 
