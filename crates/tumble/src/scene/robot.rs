@@ -413,3 +413,50 @@ pub(crate) fn place_fixed_base(model: &mut MultibodyModel, rotation: DMat3, posi
     }
     model.world_inertia = model.world_inertia.transform_to_a(&base_x_world);
 }
+
+/// The account of a robot printed by `tumble check`: base, mass, joints with their initial state and
+/// control.
+pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
+    use std::fmt::Write as _;
+    let m = &robot.model;
+    let base = if robot.floating { "floating" } else { "fixed" };
+    let _ = writeln!(
+        out,
+        "robot `{}`: {} base, {} joints, nq = {}, nv = {}, mass {} kg, {} moving links",
+        robot.name,
+        base,
+        m.nbodies(),
+        m.nq(),
+        m.nv(),
+        m.total_mass,
+        robot.link_names().len()
+    );
+    let c = &robot.control;
+    for b in &m.bodies {
+        let j = &b.joint;
+        let (qi, vi) = (j.q_index, j.v_index);
+        let q = &robot.q()[qi..qi + j.kind.nq()];
+        let v = &robot.v()[vi..vi + j.kind.nv()];
+        let _ = write!(out, "  {} ({}): q = {}, v = {}", j.name, j.kind.name(), nums(q), nums(v));
+        let tau = &c.tau[vi..vi + j.kind.nv()];
+        if tau.iter().any(|x| *x != 0.0) {
+            let _ = write!(out, ", torque {}", nums(tau));
+        }
+        if j.kind.nv() == 1 {
+            if c.damping[vi] != 0.0 {
+                let _ = write!(out, ", damping {}", num(c.damping[vi]));
+            }
+            if c.kp[vi] != 0.0 || c.kd[vi] != 0.0 {
+                let _ = write!(
+                    out,
+                    ", PD target {} (kp {}, kd {}, target velocity {})",
+                    num(c.q_target[qi]),
+                    num(c.kp[vi]),
+                    num(c.kd[vi]),
+                    num(c.v_target[vi])
+                );
+            }
+        }
+        let _ = writeln!(out);
+    }
+}
