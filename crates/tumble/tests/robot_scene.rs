@@ -11,7 +11,7 @@
 //! - bad `[[robot]]` entries are errors naming the file, line, column and field.
 
 use std::path::{Path, PathBuf};
-use tumble::math::{quat_from_wxyz, DMat3, DQuat, DVec3};
+use tumble::math::{DMat3, DQuat, DVec3};
 use tumble::multibody::Control;
 use tumble::scene::{self, Format, Scene};
 use tumble::trajectory::{self, ReadOptions, TrajectoryWriter};
@@ -331,7 +331,6 @@ fn csv_rows_named_robot_link_read_back_exactly() {
     // the tip is 1 m beyond the lower link's origin, along the lower link
     let (lower, tip) = (robot.link_state(1), robot.link_state(2));
     assert!(((tip.position - lower.position).length() - 1.0).abs() < 1e-14);
-    let _ = quat_from_wxyz([1.0, 0.0, 0.0, 0.0]);
 }
 
 #[test]
@@ -443,4 +442,40 @@ fn json_scenes_take_the_same_robot_keys() {
         .unwrap();
     let e = scene::load(&path).unwrap_err().to_string();
     assert!(e.contains("robot[0].q.elbow: unknown joint `elbow`") && e.contains("movable joints: `pivot`"), "{e}");
+}
+
+#[test]
+fn the_world_integrator_chooses_the_robot_method() {
+    use tumble::multibody::Method;
+    use tumble::world::robot_method;
+    use tumble::Integrator;
+    assert_eq!(robot_method(Integrator::Euler), Method::Euler);
+    assert_eq!(robot_method(Integrator::SemiImplicitEuler), Method::SemiImplicitEuler);
+    for i in [Integrator::Rk4, Integrator::Dopri5, Integrator::Splitting, Integrator::Splitting4] {
+        assert_eq!(robot_method(i), Method::Rk4, "{i}");
+    }
+    // a small swing of the pendulum for 5 s at dt = 1e-3: explicit Euler gains energy, semi-implicit
+    // Euler keeps it within a bounded oscillation, RK4 keeps it to its truncation error
+    let drift = |integrator: &str| {
+        let (_dir, loaded) =
+            pendulum_scene(&format!("integrator = \"{integrator}\"\nduration = 5.0"), "q = { pivot = 0.3 }");
+        let mut scene = loaded.unwrap();
+        let e0 = scene.world.energy();
+        let swing = e0 - rest_energy(&scene.world.robots[0]);
+        let mut worst = 0.0_f64;
+        for _ in 0..scene.world.config.step_count() {
+            scene.world.step().unwrap();
+            worst = worst.max((scene.world.energy() - e0).abs());
+        }
+        ((scene.world.energy() - e0) / swing, worst / swing)
+    };
+    let (euler_final, _) = drift("euler");
+    let (_, semi) = drift("semi_implicit_euler");
+    let (_, rk4) = drift("rk4");
+    let (_, splitting) = drift("splitting");
+    eprintln!("energy error of the swing: euler final {euler_final:e}, semi-implicit max {semi:e}, rk4 {rk4:e}");
+    assert!(euler_final > 0.05, "explicit Euler gains energy: {euler_final}");
+    assert!(semi < 0.01 && semi < euler_final, "semi-implicit Euler: {semi}");
+    assert!(rk4 < 1e-9, "{rk4}");
+    assert_eq!(splitting, rk4, "splitting runs robots with RK4");
 }
