@@ -479,3 +479,38 @@ fn the_world_integrator_chooses_the_robot_method() {
     assert!(rk4 < 1e-9, "{rk4}");
     assert_eq!(splitting, rk4, "splitting runs robots with RK4");
 }
+
+#[test]
+fn link_velocities_are_the_rates_of_the_link_poses() {
+    // central differences of the link rows over ±1e-5 s against the written velocities, for the
+    // body frames and for the `tip` link merged into `lower` 1 m beyond its origin
+    let mut scene = scene::load(&repo().join("scenes/double_pendulum.toml")).unwrap();
+    scene.world.config.dt = 1e-5;
+    for _ in 0..30_000 {
+        scene.world.step().unwrap();
+    }
+    let states = |world: &tumble::World| (0..3).map(|k| world.robots[0].link_state(k)).collect::<Vec<_>>();
+    let before = states(&scene.world);
+    scene.world.step().unwrap();
+    let now = states(&scene.world);
+    scene.world.step().unwrap();
+    let after = states(&scene.world);
+    let h = 1e-5;
+    for k in 0..3 {
+        let rate = (after[k].position - before[k].position) / (2.0 * h);
+        let error = (rate - now[k].velocity).length();
+        // ω from the quaternion rate: ω = 2 q̇ q* (q and −q are the same rotation: align the signs)
+        let align = |q: DQuat| if q.dot(now[k].orientation) < 0.0 { -q } else { q };
+        let q_dot = (align(after[k].orientation) - align(before[k].orientation)) / (2.0 * h);
+        let omega = 2.0 * (q_dot * now[k].orientation.conjugate()).xyz();
+        let omega_error = (omega - now[k].angular_velocity).length();
+        eprintln!(
+            "link {k}: |v| = {}, difference {error:e}; |ω| = {}, difference {omega_error:e}",
+            now[k].velocity.length(),
+            now[k].angular_velocity.length()
+        );
+        assert!(error < 1e-6 * (1.0 + now[k].velocity.length()), "link {k}: {error:e}");
+        assert!(omega_error < 1e-6 * (1.0 + now[k].angular_velocity.length()), "link {k}: {omega_error:e}");
+    }
+    assert!(now[2].velocity.length() > 0.5, "the tip should be moving");
+}
