@@ -38,8 +38,13 @@ impl Stdout {
 /// The line printed when a run starts.
 pub fn start_line(origin: &str, world: &tumble::World, out: &Path) -> String {
     let c = &world.config;
+    let robots = match world.robots.len() {
+        0 => String::new(),
+        1 => ", 1 robot".to_string(),
+        n => format!(", {n} robots"),
+    };
     format!(
-        "running {origin}: {} bodies, {} s in {} steps of {} s ({}) → {}\n",
+        "running {origin}: {} bodies{robots}, {} s in {} steps of {} s ({}) → {}\n",
         world.bodies.len(),
         c.duration,
         c.step_count(),
@@ -64,6 +69,9 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     };
     row("scene", s.scene.clone());
     row("bodies", format!("{} ({} moving)", s.bodies, s.free_bodies));
+    for r in &s.robots {
+        row("robot", format!("{}: {} base, nv = {}, {} links written", r.name, r.base, r.nv, r.links));
+    }
     row("integrator", format!("{}, dt = {} s", s.integrator, s.dt));
     row("steps", format!("{}{stopped}", s.steps));
     row("simulated time", format!("{} s", s.simulated_time));

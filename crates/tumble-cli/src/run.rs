@@ -103,7 +103,8 @@ impl Plan {
     pub fn estimated_bytes(&self) -> f64 {
         let c = &self.scene.world.config;
         let samples = (c.step_count() / c.sample_every) as f64 + 2.0;
-        samples * self.scene.world.free_bodies().count() as f64 * BYTES_PER_ROW
+        let rows = self.scene.world.free_bodies().count() + self.scene.world.robot_link_count();
+        samples * rows as f64 * BYTES_PER_ROW
     }
 }
 

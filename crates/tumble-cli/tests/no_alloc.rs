@@ -72,3 +72,31 @@ fn the_run_loop_allocates_nothing_per_step() {
         }
     }
 }
+
+/// The same for a robot scene (`scenes/panda.toml`: PD control, damping, nine joints).
+fn robot_allocations(integrator: Integrator, format: Format, steps: u64) -> usize {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/panda.toml");
+    let mut world = tumble::scene::load(&path).unwrap().world;
+    world.config.integrator = integrator;
+    world.config.duration = steps as f64 * world.config.dt;
+    world.config.sample_every = 1;
+    let mut writer = TrajectoryWriter::new(std::io::sink(), format, &world).unwrap();
+    let mut ticker = Ticker::new(steps, 12, false);
+    let stop = AtomicBool::new(false);
+    let before = allocations_so_far();
+    let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
+    let after = allocations_so_far();
+    assert!(matches!(outcome.stop, Stop::Completed));
+    after - before
+}
+
+#[test]
+fn the_run_loop_allocates_nothing_per_step_with_robots() {
+    for integrator in Integrator::ALL {
+        for format in [Format::Csv, Format::JsonLines] {
+            let short = robot_allocations(integrator, format, 100);
+            let long = robot_allocations(integrator, format, 1000);
+            assert_eq!(short, long, "{integrator} {format:?}: {short} allocations for 100 steps, {long} for 1000");
+        }
+    }
+}

@@ -19,14 +19,20 @@ fn every_scene_file_loads_and_steps() {
         }
         let loaded = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(loaded.warnings.is_empty(), "{}: {:?}", path.display(), loaded.warnings);
-        assert!(!loaded.world.bodies.is_empty(), "{}", path.display());
-        assert!(loaded.describe().contains(&loaded.world.bodies[0].name));
+        // a scene has bodies or robots (`[[robot]]`)
+        let first = match (loaded.world.bodies.first(), loaded.world.robots.first()) {
+            (Some(body), _) => body.name.clone(),
+            (None, Some(robot)) => robot.name.clone(),
+            (None, None) => panic!("{}: no bodies and no robots", path.display()),
+        };
+        assert!(loaded.describe().contains(&first));
         let mut world = loaded.world;
         world.step().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         names.push(path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default());
     }
     names.sort();
-    for expected in ["asymmetric_top.toml", "demo.toml", "many.toml", "projectile.toml", "symmetric_top.toml"] {
+    let expected = ["asymmetric_top.toml", "demo.toml", "many.toml", "projectile.toml", "symmetric_top.toml"];
+    for expected in expected.iter().chain(&["double_pendulum.toml", "panda.toml"]) {
         assert!(names.iter().any(|n| n == expected), "{expected} missing from {names:?}");
     }
 }

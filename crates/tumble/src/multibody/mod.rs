@@ -18,7 +18,7 @@
 //! | [`aba`](mod@aba)   | forward dynamics `q̈ = M⁻¹ (τ − C q̇ − g)`                 | `O(n)`          |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
-//! | [`simulate`]  | RK4 / semi-implicit Euler with torques, damping, PD        | `O(n)` a stage  |
+//! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
 //!
 //! Model vs state: a [`MultibodyModel`] never changes; `q` and `v` are plain slices, and every
 //! algorithm is a free function `f(&model, &mut workspace, q, v, ...)` that allocates nothing.

@@ -6,7 +6,8 @@
 //!
 //! Integrators: `rk4` (classical, 4th order; `q` moves through ℝ^nq and quaternions are renormalised
 //! at the end of each step, which keeps the order) and `semi_implicit_euler`
-//! (`v ← v + dt v̇(q, v)`, then `q ← q ⊕ v dt` on the manifold). All scratch vectors live in the
+//! (`v ← v + dt v̇(q, v)`, then `q ← q ⊕ v dt` on the manifold) and explicit `euler` (both from the
+//! old state). All scratch vectors live in the
 //! [`Simulator`], so a step does not allocate.
 
 use super::aba::{aba, AbaError};
@@ -89,6 +90,9 @@ impl Control {
 pub enum Method {
     Rk4,
     SemiImplicitEuler,
+    /// Explicit (forward) Euler: `q ← q ⊕ v dt`, `v ← v + dt v̇(q, v)`, both from the state at the
+    /// start of the step (first order; it gains energy on oscillations).
+    Euler,
 }
 
 /// The state `(q, v)` of a tree, its model's workspace and the integrator's scratch.
@@ -151,6 +155,16 @@ impl Simulator {
                 }
                 self.q_stage.copy_from_slice(&self.q);
                 model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
+            }
+            Method::Euler => {
+                // q ← q ⊕ v dt and v ← v + dt v̇(q, v), from the old (q, v)
+                control.joint_forces(model, &self.q, &self.v, &mut self.tau)?;
+                aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
+                self.q_stage.copy_from_slice(&self.q);
+                model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
+                for (v, a) in self.v.iter_mut().zip(&self.k_v[0]) {
+                    *v += dt * a;
+                }
             }
         }
         self.t += dt;

@@ -68,10 +68,13 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
         prefixes.insert(prefix, (path, span));
     }
 
-    if bodies.is_empty() {
+    let robots = super::robot::read_robots(src, &doc.robot, &mut names, config.gravity, &mut warnings)?;
+    if bodies.is_empty() && robots.is_empty() {
         warnings.push(src.warning(None, "", "the scene has no bodies"));
     }
-    Ok(Scene { world: World::new(config, bodies), origin, warnings })
+    let mut world = World::new(config, bodies);
+    world.robots = robots;
+    Ok(Scene { world, origin, warnings })
 }
 
 fn check_version(src: &Source, doc: &SceneDoc) -> Result<(), SceneError> {
@@ -105,7 +108,7 @@ fn body_name<'d>(
     }
 }
 
-fn duplicate(
+pub(crate) fn duplicate(
     src: &Source,
     path: &str,
     name: &Loc<String>,

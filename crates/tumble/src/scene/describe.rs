@@ -73,6 +73,9 @@ pub(crate) fn describe(scene: &Scene) -> String {
     if w.bodies.len() > MAX_LISTED_BODIES {
         let _ = writeln!(out, "... and {} more bodies", w.bodies.len() - MAX_LISTED_BODIES);
     }
+    for robot in &w.robots {
+        super::robot::describe_robot(&mut out, robot);
+    }
     for warning in &scene.warnings {
         let _ = writeln!(out, "warning: {warning}");
     }

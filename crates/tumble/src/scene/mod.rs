@@ -1,9 +1,9 @@
 //! Scene files (TOML or JSON, `version = 1`) → [`World`], with precise errors.
 //!
 //! The format is specified key by key in `docs/scene-format.md`. In short: `version = 1`, a `[world]`
-//! table of settings, `[[body]]` entries (mass properties, shape, initial state, loads) and
-//! `[[grid]]` entries that generate blocks of identical bodies. Every float is checked to be finite,
-//! every physical quantity to be in range, unknown keys are rejected with the nearest valid key, and
+//! table of settings, `[[body]]` entries (mass properties, shape, initial state, loads),
+//! `[[grid]]` entries that generate blocks of identical bodies and `[[robot]]` entries (URDF trees,
+//! module `robot`). Every float is checked to be finite, every physical quantity to be in range, unknown keys are rejected with the nearest valid key, and
 //! every error names the file, the line and column (TOML) or the field path (JSON), and the field.
 //!
 //! Modules: [`schema`] (the file as written), `build` (scene and world), `body` (one body), `grid`
@@ -14,6 +14,7 @@ mod build;
 mod describe;
 pub mod error;
 mod grid;
+mod robot;
 pub mod schema;
 
 pub use error::{ErrorDetail, LineCol, SceneError};

@@ -101,12 +101,19 @@ pub struct SceneDoc {
     /// `[[grid]]`: generated blocks of identical bodies, appended after the `[[body]]` entries.
     #[serde(default)]
     pub grid: Vec<Loc<Table<GridDoc>>>,
+    /// `[[robot]]`: URDF trees (see [`RobotDoc`]).
+    #[serde(default)]
+    pub robot: Vec<Loc<Table<RobotDoc>>>,
 }
 
 impl SceneDoc {
     /// Whether the document has no key at all (an empty file).
     pub fn is_empty(&self) -> bool {
-        self.version.is_none() && self.world.is_none() && self.body.is_empty() && self.grid.is_empty()
+        self.version.is_none()
+            && self.world.is_none()
+            && self.body.is_empty()
+            && self.grid.is_empty()
+            && self.robot.is_empty()
     }
 }
 
@@ -241,4 +248,155 @@ pub struct GridDoc {
     pub origin: Option<Vec3Doc>,
     /// The template; its `name` becomes `name_i_j_k`.
     pub body: Loc<Table<BodyDoc>>,
+}
+
+/// One `[[robot]]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotDoc {
+    /// Unique among bodies and robots.
+    pub name: Option<Loc<String>>,
+    /// URDF file, relative to the scene file's directory.
+    pub urdf: Option<Loc<String>>,
+    /// `"fixed"` (default) or `"floating"`.
+    pub base: Option<Loc<String>>,
+    /// Root link frame's origin, world frame (m).
+    pub position: Option<Vec3Doc>,
+    /// `world_from_root`, `[w, x, y, z]`.
+    pub orientation: Option<Loc<[f64; 4]>>,
+    /// Initial configuration by joint name (a number, or an array for spherical/floating joints).
+    pub q: Option<Loc<JointTable<Loc<JointValue>>>>,
+    /// Initial velocity by joint name.
+    pub v: Option<Loc<JointTable<Loc<JointValue>>>>,
+    /// Viscous damping: a number for every one-coordinate joint, `"urdf"`, or a table by joint name.
+    pub damping: Option<Loc<DampingDoc>>,
+    /// Constant joint forces by joint name (N·m, N; arrays for spherical/floating joints).
+    pub torque: Option<Loc<JointTable<Loc<JointValue>>>>,
+    /// PD targets by joint name.
+    pub pd: Option<Loc<JointTable<Loc<Table<PdDoc>>>>>,
+}
+
+/// `{ joint_name = value, ... }`, in the file's order (duplicate names are refused).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointTable<T>(pub Vec<(String, T)>);
+
+impl<T> Default for JointTable<T> {
+    fn default() -> Self {
+        Self(Vec::new())
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for JointTable<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct V<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for V<T> {
+            type Value = JointTable<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a table of joint names")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<JointTable<T>, A::Error> {
+                let mut out: Vec<(String, T)> = Vec::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    if out.iter().any(|(k, _)| *k == key) {
+                        return Err(serde::de::Error::custom(format!("joint `{key}` is given twice")));
+                    }
+                    let value = map.next_value::<T>()?;
+                    out.push((key, value));
+                }
+                Ok(JointTable(out))
+            }
+        }
+        deserializer.deserialize_map(V(std::marker::PhantomData))
+    }
+}
+
+/// A joint's value: one number, or an array (spherical: 4 or 3, floating: 7 or 6 entries).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointValue(pub Vec<f64>);
+
+impl<'de> Deserialize<'de> for JointValue {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = JointValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<JointValue, E> {
+                Ok(JointValue(vec![x]))
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<JointValue, E> {
+                Ok(JointValue(vec![x as f64]))
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<JointValue, E> {
+                Ok(JointValue(vec![x as f64]))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<JointValue, A::Error> {
+                let mut out = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    if out.len() >= 16 {
+                        return Err(serde::de::Error::custom("too many numbers (a joint has at most 7)"));
+                    }
+                    out.push(x);
+                }
+                Ok(JointValue(out))
+            }
+        }
+        deserializer.deserialize_any(V)
+    }
+}
+
+/// `damping = 0.1`, `damping = "urdf"` or `damping = { joint = 0.1, ... }`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DampingDoc {
+    /// The same coefficient for every one-coordinate joint.
+    All(f64),
+    /// Each joint's `<dynamics damping>` from the URDF.
+    Urdf,
+    /// By joint name (others: 0).
+    Joints(JointTable<Loc<f64>>),
+    /// Any other string (an error when building).
+    Other(String),
+}
+
+impl<'de> Deserialize<'de> for DampingDoc {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = DampingDoc;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number, \"urdf\" or a table of joint names")
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<DampingDoc, E> {
+                Ok(DampingDoc::All(x))
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<DampingDoc, E> {
+                Ok(DampingDoc::All(x as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<DampingDoc, E> {
+                Ok(DampingDoc::All(x as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, s: &str) -> Result<DampingDoc, E> {
+                Ok(if s == "urdf" { DampingDoc::Urdf } else { DampingDoc::Other(s.to_string()) })
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<DampingDoc, A::Error> {
+                JointTable::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(DampingDoc::Joints)
+            }
+        }
+        deserializer.deserialize_any(V)
+    }
+}
+
+/// `pd = { joint = { target = .., kp = .., kd = .. } }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PdDoc {
+    /// Position target (rad or m).
+    pub target: Option<Loc<f64>>,
+    /// Velocity target (rad/s or m/s), default 0.
+    pub target_velocity: Option<Loc<f64>>,
+    /// Proportional gain (N·m/rad or N/m), ≥ 0.
+    pub kp: Option<Loc<f64>>,
+    /// Derivative gain (N·m·s/rad or N·s/m), ≥ 0.
+    pub kd: Option<Loc<f64>>,
 }

@@ -34,6 +34,7 @@ mod writer;
 
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
+pub use summary::RobotSummary;
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
 pub use writer::{TrajectoryWriter, CSV_HEADER};
 

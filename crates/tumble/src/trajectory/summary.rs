@@ -9,7 +9,8 @@
 //!
 //! Fields added beyond the contract (never renamed): `energy.error_is_absolute` and
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
-//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`.
+//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
+//! `robots` (only when the scene has robots).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -107,6 +108,25 @@ pub struct Summary {
     pub flips: Vec<FlipSummary>,
     /// Where the scene came from.
     pub scene: String,
+    /// The robots (absent when there are none): their energy is in `energy`, the momentum of the
+    /// floating-base ones in the momenta.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub robots: Vec<RobotSummary>,
+}
+
+/// A robot of the run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobotSummary {
+    pub name: String,
+    /// `"fixed"` or `"floating"`.
+    pub base: String,
+    /// Configuration and velocity coordinates.
+    pub nq: usize,
+    pub nv: usize,
+    /// Trajectory rows per sample (`robot/link`, the links that move).
+    pub links: usize,
+    /// Final energy, kinetic plus gravitational potential (J).
+    pub energy: f64,
 }
 
 impl Summary {
@@ -154,6 +174,18 @@ impl Summary {
                 })
                 .collect(),
             scene: scene.to_string(),
+            robots: world
+                .robots
+                .iter()
+                .map(|r| RobotSummary {
+                    name: r.name.clone(),
+                    base: if r.floating { "floating" } else { "fixed" }.to_string(),
+                    nq: r.model.nq(),
+                    nv: r.model.nv(),
+                    links: r.link_names().len(),
+                    energy: r.energy(),
+                })
+                .collect(),
         }
     }
 

@@ -1,7 +1,9 @@
 //! The trajectory writers: CSV and JSON Lines.
 //!
 //! One call of [`TrajectoryWriter::write_sample`] writes the state of every non-fixed body at the
-//! world's current time. A sample is first checked (every value finite), then formatted body by body
+//! world's current time, then of every moving link of every robot (named `robot/link`: the link
+//! frame's origin and orientation, the velocity of that origin, the angular velocity, all world
+//! frame); JSON Lines then adds `"robots": [{"name", "q", "v"}]` when the world has robots. A sample is first checked (every value finite), then formatted body by body
 //! into a reused line buffer and handed to a [`BufWriter`]: after the first sample has sized the
 //! buffer, writing allocates nothing.
 
@@ -24,6 +26,8 @@ pub struct TrajectoryWriter<W: Write> {
     format: Format,
     /// Each body's name as it is written: CSV-quoted when needed, or a JSON string literal.
     names: Vec<String>,
+    /// Each robot's name and its links' names `robot/link`, formatted as `names`.
+    robot_names: Vec<(String, Vec<String>)>,
     /// The text of one row (CSV) or of one body (JSON), reused.
     line: Vec<u8>,
     samples: u64,
@@ -39,6 +43,18 @@ struct Row {
 }
 
 impl Row {
+    /// Link `k` of a robot: the link frame's origin, orientation and the velocity of its origin.
+    #[inline]
+    fn of_link(robot: &crate::world::Robot, k: usize) -> Row {
+        let s = robot.link_state(k);
+        Row {
+            position: s.position.to_array(),
+            orientation: quat_to_wxyz(s.orientation),
+            velocity: s.velocity.to_array(),
+            angular_velocity: s.angular_velocity.to_array(),
+        }
+    }
+
     #[inline]
     fn of(body: &RigidBody) -> Row {
         let s = &body.state;
@@ -79,10 +95,17 @@ impl<W: Write> TrajectoryWriter<W> {
                 Format::JsonLines => serde_json::to_string(&b.name).expect("a string always serialises"),
             })
             .collect();
+        let quote = |name: &str| match format {
+            Format::Csv => csv_field(name),
+            Format::JsonLines => serde_json::to_string(name).expect("a string always serialises"),
+        };
+        let robot_names =
+            world.robots.iter().map(|r| (quote(&r.name), r.link_names().iter().map(|n| quote(n)).collect())).collect();
         let mut writer = Self {
             sink: BufWriter::with_capacity(BUFFER_CAPACITY, sink),
             format,
             names,
+            robot_names,
             line: Vec::with_capacity(512),
             samples: 0,
         };
@@ -111,11 +134,28 @@ impl<W: Write> TrajectoryWriter<W> {
         if world.bodies.len() != self.names.len() {
             return Err(TrajectoryError::BodiesChanged { expected: self.names.len(), got: world.bodies.len() });
         }
+        let links = self.robot_names.iter().map(|(_, l)| l.len()).sum::<usize>();
+        if world.robots.len() != self.robot_names.len() || world.robot_link_count() != links {
+            return Err(TrajectoryError::BodiesChanged {
+                expected: self.names.len() + links,
+                got: world.bodies.len() + world.robot_link_count(),
+            });
+        }
         let t = world.time();
         for body in world.free_bodies() {
             let problem = if t.is_finite() { Row::of(body).non_finite() } else { Some("time") };
             if let Some(quantity) = problem {
                 return Err(TrajectoryError::NonFinite { body: body.name.clone(), quantity, time: t });
+            }
+        }
+        for robot in &world.robots {
+            for (k, name) in robot.link_names().iter().enumerate() {
+                if let Some(quantity) = Row::of_link(robot, k).non_finite() {
+                    return Err(TrajectoryError::NonFinite { body: name.clone(), quantity, time: t });
+                }
+            }
+            if !robot.q().iter().chain(robot.v()).all(|x| x.is_finite()) {
+                return Err(TrajectoryError::NonFinite { body: robot.name.clone(), quantity: "q or v", time: t });
             }
         }
         match self.format {
@@ -146,6 +186,24 @@ impl<W: Write> TrajectoryWriter<W> {
             line.push(b'\n');
             self.sink.write_all(line)?;
         }
+        for (robot, (_, links)) in world.robots.iter().zip(&self.robot_names) {
+            for (k, name) in links.iter().enumerate() {
+                let row = Row::of_link(robot, k);
+                let line = &mut self.line;
+                line.clear();
+                push_f64(line, t);
+                line.push(b',');
+                line.extend_from_slice(name.as_bytes());
+                for values in [&row.position[..], &row.orientation, &row.velocity, &row.angular_velocity] {
+                    for &x in values {
+                        line.push(b',');
+                        push_f64(line, x);
+                    }
+                }
+                line.push(b'\n');
+                self.sink.write_all(line)?;
+            }
+        }
         Ok(())
     }
 
@@ -173,6 +231,41 @@ impl<W: Write> TrajectoryWriter<W> {
             push_array(line, b",\"orientation\":", &row.orientation);
             push_array(line, b",\"velocity\":", &row.velocity);
             push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
+            line.push(b'}');
+            self.sink.write_all(line)?;
+        }
+        for (robot, (_, links)) in world.robots.iter().zip(&self.robot_names) {
+            for (k, name) in links.iter().enumerate() {
+                let row = Row::of_link(robot, k);
+                line.clear();
+                if !first {
+                    line.push(b',');
+                }
+                first = false;
+                line.extend_from_slice(b"{\"name\":");
+                line.extend_from_slice(name.as_bytes());
+                push_array(line, b",\"position\":", &row.position);
+                push_array(line, b",\"orientation\":", &row.orientation);
+                push_array(line, b",\"velocity\":", &row.velocity);
+                push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
+                line.push(b'}');
+                self.sink.write_all(line)?;
+            }
+        }
+        if self.robot_names.is_empty() {
+            return self.sink.write_all(b"]}\n");
+        }
+        // "robots": [{"name", "q", "v"}] after the bodies
+        self.sink.write_all(b"],\"robots\":[")?;
+        for (r, (robot, (name, _))) in world.robots.iter().zip(&self.robot_names).enumerate() {
+            line.clear();
+            if r > 0 {
+                line.push(b',');
+            }
+            line.extend_from_slice(b"{\"name\":");
+            line.extend_from_slice(name.as_bytes());
+            push_array(line, b",\"q\":", robot.q());
+            push_array(line, b",\"v\":", robot.v());
             line.push(b'}');
             self.sink.write_all(line)?;
         }

@@ -4,6 +4,9 @@ use crate::body::{BodyState, RigidBody};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
+mod robots;
+pub use robots::{robot_method, LinkState, Robot};
+
 /// Largest position (m), velocity (m/s) or angular velocity (rad/s) magnitude taken as a sane state;
 /// beyond it the simulation is declared diverged (MuJoCo's `mjMAXVAL` bound).
 pub const MAX_STATE_MAGNITUDE: f64 = 1e10;
@@ -119,6 +122,8 @@ pub struct World {
     steps: u64,
     /// Per-body scratch of the step, in body order.
     scratch: Vec<BodyScratch>,
+    /// Robots (URDF trees), in scene order, stepped after the bodies (see [`Robot`]).
+    pub robots: Vec<Robot>,
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -132,7 +137,7 @@ struct BodyScratch {
 impl World {
     /// A world with these settings and bodies, at `t = 0`.
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
-        Self { config, bodies, steps: 0, scratch: Vec::new() }
+        Self { config, bodies, steps: 0, scratch: Vec::new(), robots: Vec::new() }
     }
 
     /// Steps taken so far.
@@ -149,7 +154,8 @@ impl World {
 
     /// Advances the world by one step `dt`:
     /// 1. integrate every free body's Newton–Euler equations with the chosen integrator;
-    /// 2. check that every state stayed finite and sane.
+    /// 2. check that every state stayed finite and sane;
+    /// 3. advance the robots ([`Robot`]: the tree method matching the integrator) and check them.
     ///
     /// A step that diverges is undone: on `Err` the world is exactly as it was before the call (the
     /// last finite state), and the error names the body, the quantity, the step and the time.
@@ -187,6 +193,13 @@ impl World {
                 return Err(diverged);
             }
         }
+        // 3. the robots (a robot that diverges undoes the whole step)
+        if let Err(diverged) = self.step_robots() {
+            if !self.bodies.is_empty() {
+                self.undo(self.bodies.len() - 1);
+            }
+            return Err(diverged);
+        }
         self.steps += 1;
         Ok(())
     }
@@ -201,19 +214,22 @@ impl World {
         }
     }
 
-    /// Total mechanical energy, kinetic plus gravitational potential, of the free bodies (J).
+    /// Total mechanical energy, kinetic plus gravitational potential, of the free bodies and the
+    /// robots (J).
     pub fn energy(&self) -> f64 {
-        self.free_bodies().map(|b| b.kinetic_energy() + b.potential_energy(self.config.gravity)).sum()
+        self.free_bodies().map(|b| b.kinetic_energy() + b.potential_energy(self.config.gravity)).sum::<f64>()
+            + self.robots_energy()
     }
 
-    /// Total linear momentum of the free bodies, world frame (kg·m/s).
+    /// Total linear momentum of the free bodies and the floating-base robots, world frame (kg·m/s).
     pub fn linear_momentum(&self) -> DVec3 {
-        self.free_bodies().map(|b| b.mass.mass * b.state.velocity).sum()
+        self.free_bodies().map(|b| b.mass.mass * b.state.velocity).sum::<DVec3>() + self.robots_momentum().0
     }
 
-    /// Total angular momentum of the free bodies about the world origin, world frame (kg·m²/s).
+    /// Total angular momentum of the free bodies and the floating-base robots about the world
+    /// origin, world frame (kg·m²/s).
     pub fn angular_momentum(&self) -> DVec3 {
-        self.free_bodies().map(|b| b.angular_momentum_world()).sum()
+        self.free_bodies().map(|b| b.angular_momentum_world()).sum::<DVec3>() + self.robots_momentum().1
     }
 
     /// The bodies that move.

@@ -1,0 +1,462 @@
+//! `[[robot]]` entries → validated [`Robot`]s: the URDF read (its errors keep the URDF's
+//! file:line:column), the base placed, the initial state and the control set by joint name.
+//!
+//! Every joint name is checked against the model; an unknown one is an error that lists the valid
+//! names (and the nearest one). Values are checked like a body's: finite, in range, of the joint's
+//! length (`nq` for `q`, `nv` for `v` and `torque`).
+
+use super::error::{nearest, num, nums, SceneError, Source};
+use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
+use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
+use crate::math::{DMat3, DQuat, DVec3};
+use crate::multibody::spatial::Xform;
+use crate::multibody::{load_urdf, Control, FrameOrigin, JointKind, MultibodyModel, UrdfOptions};
+use crate::world::Robot;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::Path;
+
+/// The base kinds, as written in files.
+const BASES: [&str; 2] = ["fixed", "floating"];
+
+/// Name → (field path, span) of what took it.
+pub(crate) type Taken = HashMap<String, (String, Option<Range<usize>>)>;
+
+/// Reads every `[[robot]]`; `taken` holds the bodies' names and receives the robots'.
+pub(crate) fn read_robots(
+    src: &Source,
+    entries: &[Loc<Table<RobotDoc>>],
+    taken: &mut Taken,
+    gravity: DVec3,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Robot>, SceneError> {
+    let mut robots = Vec::with_capacity(entries.len());
+    for (i, entry) in entries.iter().enumerate() {
+        let path = format!("robot[{i}]");
+        let mut reader = RobotReader { src, path: &path, span: entry.span.as_ref(), warnings };
+        robots.push(reader.read(&entry.value, taken, gravity)?);
+    }
+    Ok(robots)
+}
+
+struct RobotReader<'r, 'a> {
+    src: &'r Source<'a>,
+    path: &'r str,
+    span: Option<&'r Range<usize>>,
+    warnings: &'r mut Vec<String>,
+}
+
+impl RobotReader<'_, '_> {
+    fn at(&self, key: &str) -> String {
+        format!("{}.{}", self.path, key)
+    }
+
+    fn err<T>(&self, key: &str, loc: &Loc<T>, problem: impl Into<String>) -> SceneError {
+        self.src.error(loc.span.as_ref(), self.at(key), problem)
+    }
+
+    fn read(&mut self, doc: &RobotDoc, taken: &mut Taken, gravity: DVec3) -> Result<Robot, SceneError> {
+        let name = self.name(doc, taken)?;
+        let floating = match &doc.base {
+            None => false,
+            Some(l) if l.value == "fixed" => false,
+            Some(l) if l.value == "floating" => true,
+            Some(l) => {
+                let e = self
+                    .err("base", l, "unknown base (expected \"fixed\" or \"floating\")")
+                    .got(format!("\"{}\"", l.value));
+                return Err(match nearest(&l.value, &BASES) {
+                    Some(best) => e.hint(format!("did you mean `{best}`?")),
+                    None => e,
+                });
+            }
+        };
+        let mut model = self.model(doc, floating)?;
+        model.gravity = gravity;
+        let position = self.position(doc)?;
+        let orientation = self.orientation(doc)?;
+        let mut q = model.neutral_configuration();
+        let mut v = vec![0.0; model.nv()];
+        if floating {
+            // the base pose is the free-flyer's coordinates
+            q[0..3].copy_from_slice(&position.to_array());
+            q[3..7].copy_from_slice(&[orientation.w, orientation.x, orientation.y, orientation.z]);
+        } else {
+            place_fixed_base(&mut model, DMat3::from_quat(orientation), position);
+        }
+        let base_pose_given = doc.position.is_some() || doc.orientation.is_some();
+        if let Some(table) = &doc.q {
+            for (joint, value) in &table.value.0 {
+                let j = self.joint(&model, "q", joint, value.span.as_ref().or(table.span.as_ref()))?;
+                let kind = model.bodies[j].joint.kind;
+                if floating && j == 0 && base_pose_given {
+                    return Err(self
+                        .err(&format!("q.{joint}"), value, "the base pose is already given by `position`/`orientation`")
+                        .hint("give the floating base's pose either way, not both"));
+                }
+                let values = self.values("q", joint, value, kind.nq(), kind)?;
+                let qi = model.bodies[j].joint.q_index;
+                q[qi..qi + kind.nq()].copy_from_slice(&values);
+            }
+        }
+        if let Some(table) = &doc.v {
+            for (joint, value) in &table.value.0 {
+                let j = self.joint(&model, "v", joint, value.span.as_ref().or(table.span.as_ref()))?;
+                let kind = model.bodies[j].joint.kind;
+                let values = self.values("v", joint, value, kind.nv(), kind)?;
+                if values.iter().any(|x| x.abs() > MAX_ANGULAR_SPEED) {
+                    return Err(self
+                        .err(&format!("v.{joint}"), value, format!("exceeds the limit of {MAX_ANGULAR_SPEED:e}"))
+                        .got(nums(&values)));
+                }
+                let vi = model.bodies[j].joint.v_index;
+                v[vi..vi + kind.nv()].copy_from_slice(&values);
+            }
+        }
+        let control = self.control(doc, &model)?;
+        Robot::new(name, model, control, q, v).map_err(|e| self.src.error(self.span, self.path, e.to_string()))
+    }
+
+    fn name(&self, doc: &RobotDoc, taken: &mut Taken) -> Result<String, SceneError> {
+        let name = match &doc.name {
+            Some(n) if !n.value.trim().is_empty() && !n.value.contains('/') => n,
+            Some(n) => {
+                return Err(self
+                    .err("name", n, "must be non-empty and without `/` (links are written `robot/link`)")
+                    .got(format!("{:?}", n.value)))
+            }
+            None => {
+                return Err(self
+                    .src
+                    .error(self.span, self.at("name"), "missing: every robot needs a unique name")
+                    .hint("e.g. `name = \"arm\"`"))
+            }
+        };
+        if let Some((first_path, first_span)) = taken.get(&name.value) {
+            return Err(super::build::duplicate(self.src, self.path, name, first_path, first_span.as_ref()));
+        }
+        let prefix = format!("{}/", name.value);
+        if let Some((body, (first_path, _))) = taken.iter().find(|(n, _)| n.starts_with(&prefix)) {
+            return Err(self
+                .err(
+                    "name",
+                    name,
+                    format!("{first_path} is named `{body}`, which would collide with this robot's link rows"),
+                )
+                .got(format!("\"{}\"", name.value)));
+        }
+        taken.insert(name.value.clone(), (self.at("name"), name.span.clone()));
+        Ok(name.value.clone())
+    }
+
+    fn model(&mut self, doc: &RobotDoc, floating: bool) -> Result<MultibodyModel, SceneError> {
+        let Some(urdf) = &doc.urdf else {
+            return Err(self
+                .src
+                .error(self.span, self.at("urdf"), "missing: a robot needs its URDF file")
+                .hint("e.g. `urdf = \"robots/arm.urdf\"` (relative to the scene file)"));
+        };
+        let path = Path::new(self.src.origin).parent().unwrap_or(Path::new("")).join(&urdf.value);
+        let options = UrdfOptions { floating, ..UrdfOptions::default() };
+        let model = load_urdf(&path, options).map_err(|e| self.err("urdf", urdf, e.to_string()))?;
+        for w in &model.warnings {
+            let text = format!("{}: {w}", path.display());
+            self.warnings.push(self.src.warning(urdf.span.as_ref(), &self.at("urdf"), &text));
+        }
+        Ok(model)
+    }
+
+    fn position(&self, doc: &RobotDoc) -> Result<DVec3, SceneError> {
+        let Some(l) = &doc.position else { return Ok(DVec3::ZERO) };
+        if l.value.iter().any(|x| !x.is_finite()) {
+            return Err(self.err("position", l, "must be finite").got(nums(&l.value)));
+        }
+        let p = DVec3::from_array(l.value);
+        if p.length() > MAX_POSITION {
+            return Err(self
+                .err("position", l, format!("magnitude {:e} m exceeds the limit of {MAX_POSITION:e} m", p.length()))
+                .got(nums(&l.value)));
+        }
+        Ok(p)
+    }
+
+    fn orientation(&mut self, doc: &RobotDoc) -> Result<DQuat, SceneError> {
+        let Some(l) = &doc.orientation else { return Ok(DQuat::IDENTITY) };
+        let unit = self.unit_quaternion("orientation", l, &l.value)?;
+        Ok(DQuat::from_xyzw(unit[1], unit[2], unit[3], unit[0]))
+    }
+
+    /// `[w, x, y, z]` normalised, under the scene's quaternion rules.
+    fn unit_quaternion<T>(&mut self, key: &str, l: &Loc<T>, wxyz: &[f64]) -> Result<[f64; 4], SceneError> {
+        if wxyz.iter().any(|c| !c.is_finite()) {
+            return Err(self.err(key, l, "must be finite (a quaternion [w, x, y, z])").got(nums(wxyz)));
+        }
+        let norm = wxyz.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if norm == 0.0 {
+            return Err(self
+                .err(key, l, "must be a unit quaternion [w, x, y, z], not zero")
+                .got(nums(wxyz))
+                .hint("the identity (no rotation) is [1, 0, 0, 0]"));
+        }
+        let unit = [wxyz[0] / norm, wxyz[1] / norm, wxyz[2] / norm, wxyz[3] / norm];
+        let deviation = (norm - 1.0).abs();
+        if deviation > QUAT_WARN_TOLERANCE {
+            return Err(self
+                .err(key, l, format!("must be a unit quaternion [w, x, y, z] (|q| = {norm})"))
+                .got(nums(wxyz))
+                .hint(format!("normalised it is {}; write that if it is what you meant", nums(&unit))));
+        }
+        if deviation > QUAT_SILENT_TOLERANCE {
+            let text = format!("not a unit quaternion (|q| = {norm}); normalised to {}", nums(&unit));
+            self.warnings.push(self.src.warning(l.span.as_ref(), &self.at(key), &text));
+        }
+        Ok(unit)
+    }
+
+    /// The body moved by the joint named `joint`; `what` is the table (`q`, `v`, `damping`, ...).
+    fn joint(
+        &self,
+        model: &MultibodyModel,
+        what: &str,
+        joint: &str,
+        span: Option<&Range<usize>>,
+    ) -> Result<usize, SceneError> {
+        if let Some(j) = model.joint_index(joint) {
+            return Ok(j);
+        }
+        let movable: Vec<&str> = model.bodies.iter().map(|b| b.joint.name.as_str()).collect();
+        let list = movable.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+        let fixed = model.frames.iter().any(|f| matches!(&f.origin, FrameOrigin::Fixed { joint: j, .. } if j == joint));
+        let problem = if fixed {
+            format!("joint `{joint}` is fixed: it has no coordinates")
+        } else {
+            format!("unknown joint `{joint}` (the URDF has no movable joint of that name)")
+        };
+        let e = self.src.error(span, self.at(&format!("{what}.{joint}")), problem);
+        Err(match nearest(joint, &movable) {
+            Some(best) if !fixed => e.hint(format!("did you mean `{best}`? (movable joints: {list})")),
+            _ => e.hint(format!("movable joints: {list}")),
+        })
+    }
+
+    /// A joint's `n` finite values; quaternions (`q` of spherical and floating joints) normalised.
+    fn values(
+        &mut self,
+        what: &str,
+        joint: &str,
+        value: &Loc<JointValue>,
+        n: usize,
+        kind: JointKind,
+    ) -> Result<Vec<f64>, SceneError> {
+        let key = format!("{what}.{joint}");
+        let x = &value.value.0;
+        if x.len() != n {
+            let expected = match (what, kind) {
+                ("q", JointKind::Floating) => "7 numbers [x, y, z, qw, qx, qy, qz]".to_string(),
+                ("q", JointKind::Spherical) => "4 numbers, a quaternion [w, x, y, z]".to_string(),
+                (_, JointKind::Floating) => "6 numbers [vx, vy, vz, wx, wy, wz] (base frame)".to_string(),
+                (_, JointKind::Spherical) => "3 numbers (child frame)".to_string(),
+                _ => "one number".to_string(),
+            };
+            return Err(self.err(&key, value, format!("a {} joint takes {expected}", kind.name())).got(format!(
+                "{} number{}: {}",
+                x.len(),
+                if x.len() == 1 { "" } else { "s" },
+                nums(x)
+            )));
+        }
+        if x.iter().any(|c| !c.is_finite()) {
+            return Err(self.err(&key, value, "must be finite").got(nums(x)));
+        }
+        let mut out = x.clone();
+        if what == "q" {
+            let start = match kind {
+                JointKind::Spherical => Some(0),
+                JointKind::Floating => Some(3),
+                _ => None,
+            };
+            if let Some(s) = start {
+                if kind == JointKind::Floating && DVec3::new(x[0], x[1], x[2]).length() > MAX_POSITION {
+                    return Err(self.err(&key, value, format!("position exceeds {MAX_POSITION:e} m")).got(nums(x)));
+                }
+                let unit = self.unit_quaternion(&key, value, &x[s..s + 4])?;
+                out[s..s + 4].copy_from_slice(&unit);
+            }
+        }
+        Ok(out)
+    }
+
+    /// A one-coordinate joint for damping and PD; spherical and floating joints are refused.
+    fn scalar_joint(
+        &self,
+        model: &MultibodyModel,
+        what: &str,
+        joint: &str,
+        span: Option<&Range<usize>>,
+    ) -> Result<usize, SceneError> {
+        let j = self.joint(model, what, joint, span)?;
+        let kind = model.bodies[j].joint.kind;
+        if kind.nv() != 1 {
+            return Err(self.src.error(
+                span,
+                self.at(&format!("{what}.{joint}")),
+                format!("{what} applies to one-coordinate joints; `{joint}` is {}", kind.name()),
+            ));
+        }
+        Ok(j)
+    }
+
+    fn nonneg(&self, key: &str, l: &Loc<f64>, unit: &str) -> Result<f64, SceneError> {
+        if l.value.is_finite() && l.value >= 0.0 {
+            Ok(l.value)
+        } else {
+            Err(self.err(key, l, format!("must be finite and ≥ 0 ({unit})")).got(num(l.value)))
+        }
+    }
+
+    fn control(&self, doc: &RobotDoc, model: &MultibodyModel) -> Result<Control, SceneError> {
+        let mut control = Control::passive(model);
+        let damping_unit = "N·m·s/rad or N·s/m";
+        if let Some(d) = &doc.damping {
+            match &d.value {
+                DampingDoc::All(c) => {
+                    let c = self.nonneg("damping", &Loc { value: *c, span: d.span.clone() }, damping_unit)?;
+                    for b in model.bodies.iter().filter(|b| b.joint.kind.nv() == 1) {
+                        control.damping[b.joint.v_index] = c;
+                    }
+                }
+                DampingDoc::Urdf => {
+                    for b in model.bodies.iter().filter(|b| b.joint.kind.nv() == 1) {
+                        control.damping[b.joint.v_index] = b.joint.limits.damping;
+                    }
+                }
+                DampingDoc::Joints(JointTable(entries)) => {
+                    for (joint, c) in entries {
+                        let j = self.scalar_joint(model, "damping", joint, c.span.as_ref().or(d.span.as_ref()))?;
+                        let c = self.nonneg(&format!("damping.{joint}"), c, damping_unit)?;
+                        control.damping[model.bodies[j].joint.v_index] = c;
+                    }
+                }
+                DampingDoc::Other(s) => {
+                    return Err(self
+                        .err("damping", d, "expected a number, \"urdf\" or a table of joint names")
+                        .got(format!("\"{s}\"")))
+                }
+            }
+        }
+        if let Some(table) = &doc.torque {
+            for (joint, value) in &table.value.0 {
+                let j = self.joint(model, "torque", joint, value.span.as_ref().or(table.span.as_ref()))?;
+                let joint_ref = &model.bodies[j].joint;
+                let key = format!("torque.{joint}");
+                let x = &value.value.0;
+                let n = joint_ref.kind.nv();
+                if x.len() != n {
+                    return Err(self
+                        .err(&key, value, format!("a {} joint takes {n} number(s)", joint_ref.kind.name()))
+                        .got(nums(x)));
+                }
+                if x.iter().any(|c| !c.is_finite()) {
+                    return Err(self.err(&key, value, "must be finite").got(nums(x)));
+                }
+                control.tau[joint_ref.v_index..joint_ref.v_index + n].copy_from_slice(x);
+            }
+        }
+        if let Some(table) = &doc.pd {
+            for (joint, pd) in &table.value.0 {
+                let span = pd.span.as_ref().or(table.span.as_ref());
+                let j = self.scalar_joint(model, "pd", joint, span)?;
+                let joint_ref = &model.bodies[j].joint;
+                let key = |k: &str| format!("pd.{joint}.{k}");
+                let Some(target) = &pd.value.target else {
+                    return Err(self
+                        .src
+                        .error(span, self.at(&format!("pd.{joint}")), "missing `target` (rad or m)")
+                        .hint("e.g. `{ target = 0.5, kp = 100.0, kd = 10.0 }`"));
+                };
+                if !target.value.is_finite() {
+                    return Err(self.err(&key("target"), target, "must be finite").got(num(target.value)));
+                }
+                let Some(kp) = &pd.value.kp else {
+                    return Err(self.src.error(span, self.at(&format!("pd.{joint}")), "missing `kp` (N·m/rad or N/m)"));
+                };
+                control.q_target[joint_ref.q_index] = target.value;
+                control.kp[joint_ref.v_index] = self.nonneg(&key("kp"), kp, "N·m/rad or N/m")?;
+                if let Some(kd) = &pd.value.kd {
+                    control.kd[joint_ref.v_index] = self.nonneg(&key("kd"), kd, "N·m·s/rad or N·s/m")?;
+                }
+                if let Some(tv) = &pd.value.target_velocity {
+                    if !tv.value.is_finite() {
+                        return Err(self.err(&key("target_velocity"), tv, "must be finite").got(num(tv.value)));
+                    }
+                    control.v_target[joint_ref.v_index] = tv.value;
+                }
+            }
+        }
+        Ok(control)
+    }
+}
+
+/// Places a fixed-base model at `world_from_base = (rotation, position)`: the joints that hang from
+/// the world get `jointframe_X_world = jointframe_X_base · base_X_world`, the links fixed to the
+/// world move with the base, and the inertia fixed to the world is expressed in the world frame.
+pub(crate) fn place_fixed_base(model: &mut MultibodyModel, rotation: DMat3, position: DVec3) {
+    if rotation == DMat3::IDENTITY && position == DVec3::ZERO {
+        return;
+    }
+    let base_x_world = Xform::from_pose(rotation, position);
+    for body in model.bodies.iter_mut().filter(|b| b.parent.is_none()) {
+        body.joint.x_tree = body.joint.x_tree.compose(&base_x_world);
+    }
+    for frame in model.frames.iter_mut().filter(|f| f.body.is_none()) {
+        frame.x_from_body = frame.x_from_body.compose(&base_x_world);
+    }
+    model.world_inertia = model.world_inertia.transform_to_a(&base_x_world);
+}
+
+/// The account of a robot printed by `tumble check`: base, mass, joints with their initial state and
+/// control.
+pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
+    use std::fmt::Write as _;
+    let m = &robot.model;
+    let base = if robot.floating { "floating" } else { "fixed" };
+    let _ = writeln!(
+        out,
+        "robot `{}`: {} base, {} joints, nq = {}, nv = {}, mass {} kg, {} moving links",
+        robot.name,
+        base,
+        m.nbodies(),
+        m.nq(),
+        m.nv(),
+        m.total_mass,
+        robot.link_names().len()
+    );
+    let c = &robot.control;
+    for b in &m.bodies {
+        let j = &b.joint;
+        let (qi, vi) = (j.q_index, j.v_index);
+        let q = &robot.q()[qi..qi + j.kind.nq()];
+        let v = &robot.v()[vi..vi + j.kind.nv()];
+        let _ = write!(out, "  {} ({}): q = {}, v = {}", j.name, j.kind.name(), nums(q), nums(v));
+        let tau = &c.tau[vi..vi + j.kind.nv()];
+        if tau.iter().any(|x| *x != 0.0) {
+            let _ = write!(out, ", torque {}", nums(tau));
+        }
+        if j.kind.nv() == 1 {
+            if c.damping[vi] != 0.0 {
+                let _ = write!(out, ", damping {}", num(c.damping[vi]));
+            }
+            if c.kp[vi] != 0.0 || c.kd[vi] != 0.0 {
+                let _ = write!(
+                    out,
+                    ", PD target {} (kp {}, kd {}, target velocity {})",
+                    num(c.q_target[qi]),
+                    num(c.kp[vi]),
+                    num(c.kd[vi]),
+                    num(c.v_target[vi])
+                );
+            }
+        }
+        let _ = writeln!(out);
+    }
+}

@@ -1,0 +1,295 @@
+//! Robots in the world: URDF trees integrated beside the free bodies.
+//!
+//! A [`Robot`] owns its [`MultibodyModel`] (placed in the world: a fixed base's pose is folded into
+//! the placements of the joints that hang from the world), its [`Control`], its state in a
+//! [`Simulator`], and a second [`Workspace`] that always holds the forward kinematics of the current
+//! state, so that the trajectory writer and the invariants read link poses, energy and momentum
+//! without recomputing them (and through `&World`).
+//!
+//! **Integrators.** A tree is stepped with the method closest to the world's integrator:
+//!
+//! | world `integrator`              | robots                                                    |
+//! |---------------------------------|-----------------------------------------------------------|
+//! | `euler`                         | explicit Euler                                            |
+//! | `semi_implicit_euler`           | semi-implicit Euler (`v` first, then `q ⊕ v dt`)          |
+//! | `rk4`                           | classical RK4                                             |
+//! | `dopri5`, `splitting`, `splitting4` | RK4 at the world's `dt` (no adaptive or split form for trees) |
+//!
+//! **Divergence.** After each step every `q` and `v` entry of every robot must be finite and at most
+//! [`MAX_STATE_MAGNITUDE`](super::MAX_STATE_MAGNITUDE) in magnitude; otherwise the step is undone (for
+//! the bodies and for every robot) and the error names the robot, the joint, the step and the time.
+//!
+//! Nothing here allocates per step.
+
+use super::{Diverged, World, MAX_STATE_MAGNITUDE};
+use crate::integrate::Integrator;
+use crate::math::{quat_to_wxyz, DMat3, DQuat, DVec3};
+use crate::multibody::fk::{forward_kinematics, frame_x_world};
+use crate::multibody::spatial::{Force, Motion, Xform};
+use crate::multibody::{Control, LengthError, Method, MultibodyModel, Simulator, Workspace};
+
+/// A robot of the world: model, control, state and workspaces.
+#[derive(Debug, Clone)]
+pub struct Robot {
+    /// Unique among the world's bodies and robots.
+    pub name: String,
+    /// The tree, placed in the world frame (a fixed base's pose is in its root placements); its
+    /// `gravity` follows the world's at every step.
+    pub model: MultibodyModel,
+    /// Joint torques: constant, damping, PD.
+    pub control: Control,
+    /// Whether the base is a free-flyer (`root_joint`).
+    pub floating: bool,
+    /// State `(q, v)` and the integrator's scratch.
+    sim: Simulator,
+    /// Forward kinematics of the current state.
+    view: Workspace,
+    /// `(q, v)` before the current step (to undo it).
+    q_before: Vec<f64>,
+    v_before: Vec<f64>,
+    t_before: f64,
+    /// The frames (links) that move, in the model's frame order, and their names `robot/link`.
+    moving_frames: Vec<usize>,
+    link_names: Vec<String>,
+    /// Kinetic and potential energy of the current state (J).
+    kinetic: f64,
+    potential: f64,
+    /// Total momentum `[L about the world origin; p]` of the current state, world frame.
+    momentum: Force,
+}
+
+/// The state of one link as written in a trajectory, all world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinkState {
+    /// Origin of the link frame (m).
+    pub position: DVec3,
+    /// `world_from_link` (unit quaternion).
+    pub orientation: DQuat,
+    /// Velocity of the link frame's origin (m/s).
+    pub velocity: DVec3,
+    /// Angular velocity (rad/s).
+    pub angular_velocity: DVec3,
+}
+
+impl Robot {
+    /// A robot at `(q, v)` (lengths nq and nv of `model`).
+    pub fn new(
+        name: impl Into<String>,
+        model: MultibodyModel,
+        control: Control,
+        q: Vec<f64>,
+        v: Vec<f64>,
+    ) -> Result<Self, LengthError> {
+        let name = name.into();
+        let sim = Simulator::new(&model, q.clone(), v.clone())?;
+        let floating = model.bodies.first().is_some_and(|b| b.joint.name == "root_joint" && b.parent.is_none())
+            && matches!(model.bodies[0].joint.kind, crate::multibody::JointKind::Floating);
+        let moving_frames: Vec<usize> =
+            model.frames.iter().enumerate().filter(|(_, f)| f.body.is_some()).map(|(i, _)| i).collect();
+        let link_names = moving_frames.iter().map(|&f| format!("{name}/{}", model.frames[f].name)).collect();
+        let view = Workspace::new(&model);
+        let mut robot = Self {
+            name,
+            control,
+            floating,
+            sim,
+            view,
+            q_before: q,
+            v_before: v,
+            t_before: 0.0,
+            moving_frames,
+            link_names,
+            kinetic: 0.0,
+            potential: 0.0,
+            momentum: Force::ZERO,
+            model,
+        };
+        robot.refresh();
+        Ok(robot)
+    }
+
+    /// Configuration (nq): see `docs/multibody.md` for each joint's coordinates.
+    pub fn q(&self) -> &[f64] {
+        &self.sim.q
+    }
+
+    /// Velocity (nv).
+    pub fn v(&self) -> &[f64] {
+        &self.sim.v
+    }
+
+    /// Kinetic plus gravitational potential energy (J), zero potential at the world origin.
+    pub fn energy(&self) -> f64 {
+        self.kinetic + self.potential
+    }
+
+    /// Kinetic energy (J).
+    pub fn kinetic_energy(&self) -> f64 {
+        self.kinetic
+    }
+
+    /// Total linear momentum of the links, world frame (kg·m/s).
+    pub fn linear_momentum(&self) -> DVec3 {
+        self.momentum.lin
+    }
+
+    /// Total angular momentum of the links about the world origin, world frame (kg·m²/s).
+    pub fn angular_momentum(&self) -> DVec3 {
+        self.momentum.ang
+    }
+
+    /// The names written in trajectories, `robot/link`, one per moving link.
+    pub fn link_names(&self) -> &[String] {
+        &self.link_names
+    }
+
+    /// The state of moving link `k` (index into [`link_names`](Self::link_names)).
+    pub fn link_state(&self, k: usize) -> LinkState {
+        let f = self.moving_frames[k];
+        let frame = &self.model.frames[f];
+        let body = frame.body.unwrap_or(0);
+        // frame_X_0 and the frame's velocity in its own coordinates, frame_X_body v_body
+        let x: Xform = frame_x_world(&self.model, &self.view, f);
+        let v_frame: Motion = frame.x_from_body.apply_motion(self.view.v[body]);
+        let world_from_frame: DMat3 = x.rotation_a_from_b();
+        LinkState {
+            position: x.r,
+            orientation: DQuat::from_mat3(&world_from_frame).normalize(),
+            velocity: world_from_frame * v_frame.lin,
+            angular_velocity: world_from_frame * v_frame.ang,
+        }
+    }
+
+    /// The orientation of link `k` as written in files, `[w, x, y, z]`.
+    pub fn link_orientation_wxyz(&self, k: usize) -> [f64; 4] {
+        quat_to_wxyz(self.link_state(k).orientation)
+    }
+
+    /// Recomputes the forward kinematics, energy and momentum of the current state.
+    fn refresh(&mut self) {
+        let (model, ws) = (&self.model, &mut self.view);
+        if forward_kinematics(model, ws, &self.sim.q, &self.sim.v).is_err() {
+            return; // lengths are fixed at construction
+        }
+        let mut kinetic = 0.0;
+        let mut potential = 0.0;
+        let mut momentum = Force::ZERO;
+        for (i, b) in model.bodies.iter().enumerate() {
+            // T = ½ vᵢᵀ Iᵢ vᵢ;  V = −mᵢ g · cᵢ;  h = Σ 0_X_iᵀ* (Iᵢ vᵢ)
+            let h_body = b.inertia.mul_motion(ws.v[i]);
+            kinetic += 0.5 * ws.v[i].dot(h_body);
+            let c_world = ws.x_world[i].inv_apply_point(b.inertia.com());
+            potential -= b.inertia.mass * model.gravity.dot(c_world);
+            momentum += ws.x_world[i].inv_apply_force(h_body);
+        }
+        self.kinetic = kinetic;
+        self.potential = potential;
+        self.momentum = momentum;
+    }
+
+    /// One step of `dt` seconds; on a non-finite or absurd state, the state is restored and the
+    /// problem described (`joint `elbow`: v is not finite`).
+    fn step(&mut self, method: Method, dt: f64, gravity: DVec3) -> Result<(), String> {
+        self.model.gravity = gravity;
+        self.q_before.copy_from_slice(&self.sim.q);
+        self.v_before.copy_from_slice(&self.sim.v);
+        self.t_before = self.sim.t;
+        if let Err(e) = self.sim.step(&self.model, &self.control, method, dt) {
+            self.undo();
+            return Err(format!("the dynamics failed: {e}"));
+        }
+        if let Some(problem) = self.check() {
+            self.undo();
+            return Err(problem);
+        }
+        self.refresh();
+        Ok(())
+    }
+
+    fn undo(&mut self) {
+        self.sim.q.copy_from_slice(&self.q_before);
+        self.sim.v.copy_from_slice(&self.v_before);
+        self.sim.t = self.t_before;
+        self.refresh();
+    }
+
+    /// Names the first joint whose `q` or `v` is non-finite or beyond [`MAX_STATE_MAGNITUDE`].
+    fn check(&self) -> Option<String> {
+        let sane = |x: &f64| x.abs() <= MAX_STATE_MAGNITUDE; // false for NaN
+        if self.sim.q.iter().all(sane) && self.sim.v.iter().all(sane) {
+            return None;
+        }
+        for b in &self.model.bodies {
+            let j = &b.joint;
+            let q = &self.sim.q[j.q_index..j.q_index + j.kind.nq()];
+            let v = &self.sim.v[j.v_index..j.v_index + j.kind.nv()];
+            for (what, values) in [("q", q), ("v", v)] {
+                if let Some(x) = values.iter().find(|x| !sane(x)) {
+                    let problem = if x.is_finite() {
+                        format!("|{what}| = {:e} exceeds {MAX_STATE_MAGNITUDE:e}", x.abs())
+                    } else {
+                        format!("{what} is not finite")
+                    };
+                    return Some(format!("joint `{}`: {problem}", j.name));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// The tree method used for a world integrator (see the module's table).
+pub fn robot_method(integrator: Integrator) -> Method {
+    match integrator {
+        Integrator::Euler => Method::Euler,
+        Integrator::SemiImplicitEuler => Method::SemiImplicitEuler,
+        Integrator::Rk4 | Integrator::Dopri5 | Integrator::Splitting | Integrator::Splitting4 => Method::Rk4,
+    }
+}
+
+impl World {
+    /// Steps every robot by `dt`; on divergence, restores the robots stepped so far and returns the
+    /// error (the caller restores the bodies).
+    pub(super) fn step_robots(&mut self) -> Result<(), Diverged> {
+        let method = robot_method(self.config.integrator);
+        let (dt, gravity) = (self.config.dt, self.config.gravity);
+        for r in 0..self.robots.len() {
+            if let Err(quantity) = self.robots[r].step(method, dt, gravity) {
+                for earlier in &mut self.robots[..r] {
+                    earlier.undo();
+                }
+                return Err(Diverged {
+                    body: self.robots[r].name.clone(),
+                    quantity,
+                    step: self.steps + 1,
+                    time: (self.steps + 1) as f64 * dt,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The index of the robot with this name.
+    pub fn robot_index(&self, name: &str) -> Option<usize> {
+        self.robots.iter().position(|r| r.name == name)
+    }
+
+    /// Energy of the robots, kinetic plus gravitational potential (J).
+    pub fn robots_energy(&self) -> f64 {
+        self.robots.iter().map(Robot::energy).sum()
+    }
+
+    /// Linear and angular momentum (about the world origin) of the floating-base robots, world frame.
+    /// Fixed-base robots are left out: the world holds them, so their momentum is not conserved.
+    pub fn robots_momentum(&self) -> (DVec3, DVec3) {
+        self.robots
+            .iter()
+            .filter(|r| r.floating)
+            .fold((DVec3::ZERO, DVec3::ZERO), |(p, l), r| (p + r.linear_momentum(), l + r.angular_momentum()))
+    }
+
+    /// Number of trajectory rows the robots add per sample (their moving links).
+    pub fn robot_link_count(&self) -> usize {
+        self.robots.iter().map(|r| r.link_names.len()).sum()
+    }
+}
