@@ -1,6 +1,7 @@
 //! The world: bodies, configuration and the step.
 
 use crate::body::RigidBody;
+use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
@@ -23,6 +24,8 @@ pub struct WorldConfig {
     pub tolerances: Tolerances,
     /// Write every k-th step to the trajectory. Default `1`.
     pub sample_every: u64,
+    /// Contact settings (see [`ContactSettings`]).
+    pub contact: ContactSettings,
 }
 
 impl Default for WorldConfig {
@@ -34,6 +37,7 @@ impl Default for WorldConfig {
             integrator: Integrator::Rk4,
             tolerances: Tolerances::default(),
             sample_every: 1,
+            contact: ContactSettings::default(),
         }
     }
 }
@@ -86,7 +90,11 @@ impl WorldConfig {
         if self.sample_every == 0 {
             return bad("sample_every", "must be ≥ 1", "0".into());
         }
-        Ok(())
+        crate::contact::validate(&self.contact).map_err(|(field, problem, value)| ConfigError {
+            field,
+            problem: problem.to_string(),
+            value,
+        })
     }
 
     /// The number of steps that cover `duration`: `round(duration / dt)`.
@@ -119,13 +127,15 @@ pub struct World {
     steps: u64,
     /// `dopri5`'s proposed internal step per body (s).
     step_hints: Vec<f64>,
+    /// Contact detection and response: buffers, warm-start impulses, dissipated energy.
+    contact: ContactStage,
 }
 
 impl World {
     /// A world with these settings and bodies, at `t = 0`.
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
         let n = bodies.len();
-        Self { config, bodies, steps: 0, step_hints: vec![0.0; n] }
+        Self { config, bodies, steps: 0, step_hints: vec![0.0; n], contact: ContactStage::default() }
     }
 
     /// Steps taken so far.
@@ -141,9 +151,30 @@ impl World {
     }
 
     /// Advances the world by one step `dt`:
-    /// 1. integrate every free body's Newton–Euler equations with the chosen integrator;
-    /// 2. check that every state stayed finite and sane.
+    /// 1. contacts: detect them, resolve collisions and resting contacts by impulses ([`crate::contact`]);
+    /// 2. integrate every free body's Newton–Euler equations with the chosen integrator, and check
+    ///    that every state stayed finite and sane;
+    /// 3. contacts: move the bodies to where the impulses, applied through the step, put them.
     pub fn step(&mut self) -> Result<(), Diverged> {
+        self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt);
+        self.integrate_free_bodies()?;
+        self.contact.finish(&mut self.bodies);
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Energy dissipated by contacts since the start (J).
+    pub fn contact_energy(&self) -> ContactEnergy {
+        self.contact.energy
+    }
+
+    /// The contact stage (contacts of the last step, collision shapes, collisions so far).
+    pub fn contact_stage(&mut self) -> &mut ContactStage {
+        &mut self.contact
+    }
+
+    /// Integrates every free body over one step and checks its state.
+    fn integrate_free_bodies(&mut self) -> Result<(), Diverged> {
         if self.step_hints.len() != self.bodies.len() {
             self.step_hints.resize(self.bodies.len(), 0.0);
         }
@@ -163,7 +194,6 @@ impl World {
                 return Err(Diverged { body: body.name.clone(), quantity, step: self.steps + 1, time: time_after });
             }
         }
-        self.steps += 1;
         Ok(())
     }
 
