@@ -116,6 +116,9 @@ struct Integration {
     w_c: f64,
     p_c: f64,
     h: f64,
+    /// The nominal step (1/256 of the frictionless compression impulse) and the velocity scale.
+    h0: f64,
+    u_scale: f64,
 }
 
 impl Integration {
@@ -133,6 +136,8 @@ impl Integration {
             w_c: 0.0,
             p_c: 0.0,
             h,
+            h0: h,
+            u_scale: u0.length(),
         }
     }
 
@@ -274,13 +279,22 @@ impl Integration {
     /// One sliding step (an event found inside it shortens it). Returns whether the impact ended.
     fn slide_step(&mut self) -> bool {
         let ut0 = (self.y[0], self.y[1]);
-        let crossed = |y: &[f64; 6]| y[0] * ut0.0 + y[1] * ut0.1 <= 0.0;
+        // the slip stops inside a step when either RK4 or the Euler predictor reverses u_t: RK4's
+        // stages straddling the stop average the discontinuous friction direction and can miss it
+        let k1 = self.slope(&self.y);
+        let y0 = self.y;
+        let crossed_at = |y: &[f64; 6], h: f64| {
+            let euler = (y0[0] + h * k1[0], y0[1] + h * k1[1]);
+            y[0] * ut0.0 + y[1] * ut0.1 <= 0.0 || euler.0 * ut0.0 + euler.1 * ut0.1 <= 0.0
+        };
         let full = rk4(self, &self.y, self.h);
         let phase_ends = self.event(&full, self.p_z + self.h) >= 0.0;
-        let sticks = crossed(&full);
+        let sticks = crossed_at(&full, self.h);
         if !phase_ends && !sticks {
             self.y = full;
             self.p_z += self.h;
+            // after a shortened step near a stop, grow back to the nominal step
+            self.h = (2.0 * self.h).min(self.h0);
             return false;
         }
         // bisect for the first event in (0, h]
@@ -288,7 +302,7 @@ impl Integration {
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
             let y = rk4(self, &self.y, mid);
-            if self.event(&y, self.p_z + mid) >= 0.0 || crossed(&y) {
+            if self.event(&y, self.p_z + mid) >= 0.0 || crossed_at(&y, mid) {
                 hi = mid;
             } else {
                 lo = mid;
@@ -296,14 +310,28 @@ impl Integration {
         }
         let y = rk4(self, &self.y, hi);
         let ended = self.event(&y, self.p_z + hi) >= 0.0;
-        self.y = y;
-        self.p_z += hi;
-        if crossed(&y) && !ended {
-            // sliding stopped: u_t = 0 here, the sticking analysis decides what follows
+        if crossed_at(&y, hi) && !ended {
+            // sliding stops between lo and hi (2⁻⁶⁰ h apart). RK4's last stage would sit on the
+            // stop, where the friction direction is round-off: step RK4 to 0.999 lo, where every
+            // stage still has a direction, then Euler over the last thousandth, and let the
+            // sticking analysis decide what follows
+            let y_near = rk4(self, &self.y, 0.999 * lo);
+            let slope = self.slope(&y_near);
+            self.y = std::array::from_fn(|i| y_near[i] + 0.001 * lo * slope[i]);
+            self.p_z += lo;
+            if (self.y[0] * self.y[0] + self.y[1] * self.y[1]).sqrt() > 1e-11 * self.u_scale && self.h > 1e-12 * self.h0
+            {
+                // the Euler predictor's stop was early (a curved slip path): go on in smaller steps
+                self.h *= 1.0 / 16.0;
+                return false;
+            }
+            self.h = self.h0;
             self.y[0] = 0.0;
             self.y[1] = 0.0;
             return false;
         }
+        self.y = y;
+        self.p_z += hi;
         if self.compressing {
             self.y[2] = self.y[2].max(0.0);
             self.end_compression();

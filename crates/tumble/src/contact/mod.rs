@@ -14,8 +14,9 @@
 //! 2. **Resting contact** ([`solver`], Catto 2005/2006): every contact, with the velocities the
 //!    bodies would have at the end of the step under gravity and their constant world forces, is
 //!    solved by sequential impulses with warm starting; the velocity change `Δv` is applied at the
-//!    start of the step and the end position shifted by `−½ Δv dt`, so the contact force acts as a
-//!    constant force through the step (a body at rest on the ground does not move at all). The
+//!    start of the step and the end position of a body so held is shifted by `½ a dt²`, so that it
+//!    moves by its end-of-step velocity, `x ← x + v⁺ dt` (symplectic Euler, as Box2D: a body at
+//!    rest on the ground does not move at all, a speculative gap closes exactly). The
 //!    split impulse's pseudo-velocities move overlapping bodies apart without adding energy.
 //!
 //! After the integration, [`ContactStage::finish`] applies the position and rotation shifts.
@@ -292,8 +293,14 @@ impl ContactStage {
             b.state.velocity += dv;
             let omega = b.state.omega_world() + dw;
             b.set_omega_world(omega);
-            self.shifts[i].0 += -0.5 * dt * dv + sb.v_split * dt;
-            self.shifts[i].1 += -0.5 * dt * dw + sb.w_split * dt;
+            // the integrator moved the body by (v + Δv) dt + ½ a dt²; a body held by contacts moves
+            // by its end-of-step velocity, v_solved dt = (v + Δv + a dt) dt (symplectic Euler, so
+            // that a body at rest stays put and the speculative gap is closed exactly): + ½ a dt²
+            let accel = gravity + b.loads.force_world * b.mass.inv_mass;
+            let held = dv != DVec3::ZERO || dw != DVec3::ZERO;
+            let settle = if held { 0.5 * accel * dt * dt } else { DVec3::ZERO };
+            self.shifts[i].0 += settle + sb.v_split * dt;
+            self.shifts[i].1 += sb.w_split * dt;
         }
     }
 }
