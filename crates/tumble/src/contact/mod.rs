@@ -155,7 +155,7 @@ impl ContactStage {
         self.bodies.clear();
         self.positions.clear();
         for b in bodies {
-            let mut sb = SolverBody { v: b.state.velocity, w: b.state.omega_world(), ..SolverBody::default() };
+            let mut sb = SolverBody { v: b.state.velocity, w: b.state.omega_world(), ..SolverBody::FIXED };
             if !b.fixed {
                 let r = DMat3::from_quat(b.state.orientation);
                 sb.inv_mass = b.mass.inv_mass;

@@ -35,6 +35,8 @@ pub struct Constraint {
     pub normal_mass: f64,
     /// `K_tt⁻¹` as `[[a, b], [c, d]]` (kg).
     pub tangent_mass: [f64; 4],
+    /// `K_tt` as `[k11, k12, k22]` (1/kg).
+    pub tangent_k: [f64; 3],
     pub mu: f64,
     /// Allowed approach speed `max(gap, 0)/dt` (m/s).
     pub speculative: f64,
@@ -47,7 +49,7 @@ pub struct Constraint {
 
 /// Per-body quantities of the solve: inverse mass (1/kg), world inverse inertia (1/(kg·m²)),
 /// velocity (m/s) and angular velocity (rad/s), and the pseudo-velocities of the split impulse.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct SolverBody {
     pub inv_mass: f64,
     pub inv_inertia: DMat3,
@@ -58,6 +60,17 @@ pub struct SolverBody {
 }
 
 impl SolverBody {
+    /// A body that impulses do not move: inverse mass and inverse inertia zero (glam's
+    /// `DMat3::default()` is the identity, so this is spelled out).
+    pub const FIXED: Self = Self {
+        inv_mass: 0.0,
+        inv_inertia: DMat3::ZERO,
+        v: DVec3::ZERO,
+        w: DVec3::ZERO,
+        v_split: DVec3::ZERO,
+        w_split: DVec3::ZERO,
+    };
+
     #[inline]
     fn point_velocity(&self, r: DVec3) -> DVec3 {
         self.v + self.w.cross(r)
@@ -110,6 +123,7 @@ impl Constraint {
             t2,
             normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
             tangent_mass,
+            tangent_k: [k11, k12, k22],
             mu,
             speculative: gap.max(0.0) / dt,
             bias: (settings.position_correction * penetration / dt).min(settings.max_correction_speed),
@@ -140,7 +154,12 @@ impl Constraint {
     /// One Gauss–Seidel pass over this constraint: friction (with the current normal impulse as
     /// the disc's radius), then the normal.
     pub fn solve_velocity(&mut self, bodies: &mut [SolverBody]) {
-        // friction: Δλ_t = −K_tt⁻¹ u_t, then clamp to |λ_t| ≤ μ λ_n
+        // friction: sticking if λ* = λ_t − K_tt⁻¹ u_t lies in the disc |λ_t| ≤ μ λ_n; otherwise
+        // sliding, with λ_t the point of the disc nearest λ* in the metric of K_tt. That point makes
+        // the resulting slip u = K_tt (λ_t − λ*) normal to the disc, i.e. friction opposes the slip
+        // (maximum dissipation), which the plain Euclidean clamp would not do when K_tt is not
+        // isotropic. λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*, with ν ≥ 0 the root of the secular equation
+        // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from ν = 0).
         let u = self.relative_velocity(bodies);
         let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
         let m = self.tangent_mass;
@@ -148,7 +167,31 @@ impl Constraint {
         let limit = self.mu * self.lambda[0];
         let len = (l1 * l1 + l2 * l2).sqrt();
         if len > limit {
-            let s = if len > 0.0 { limit / len } else { 0.0 };
+            if limit > 0.0 {
+                let [k11, k12, k22] = self.tangent_k;
+                let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
+                let mut nu = 0.0;
+                for _ in 0..8 {
+                    let (a11, a22) = (k11 + nu, k22 + nu);
+                    let det = a11 * a22 - k12 * k12;
+                    let (x1, x2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
+                    let norm = (x1 * x1 + x2 * x2).sqrt();
+                    // λᵀ (K + ν)⁻¹ λ
+                    let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
+                    let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
+                    let phi = 1.0 / norm - 1.0 / limit;
+                    if !(slope > 0.0) || phi.abs() < 1e-12 / limit {
+                        break;
+                    }
+                    nu = (nu - phi / slope).max(0.0);
+                }
+                let (a11, a22) = (k11 + nu, k22 + nu);
+                let det = a11 * a22 - k12 * k12;
+                (l1, l2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
+            }
+            // round-off of the root: land exactly on the disc
+            let len = (l1 * l1 + l2 * l2).sqrt();
+            let s = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
             l1 *= s;
             l2 *= s;
         }
