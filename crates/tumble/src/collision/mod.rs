@@ -29,6 +29,9 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::SharedShape;
 
+/// Manifold points closer than this (m) are one point.
+pub const DUPLICATE_DISTANCE: f64 = 1e-3;
+
 /// One contact point between bodies `a` and `b` (indices into `World::bodies`), world frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
@@ -251,14 +254,25 @@ impl Colliders {
             // a degenerate manifold (coincident centres): a fixed, deterministic fallback normal
             DVec3::Z
         };
+        let first = out.len();
         for c in &self.manifold.points {
             if !(c.dist <= prediction) {
                 continue;
             }
             let p1 = pose_i * c.local_p1;
             let p2 = pose_j * c.local_p2;
+            let point_world = 0.5 * (p1 + p2);
+            // aligned faces give each corner twice (one per face): keep one point per place, the deeper
+            if let Some(twin) =
+                out[first..].iter_mut().find(|o| (o.point_world - point_world).length() < DUPLICATE_DISTANCE)
+            {
+                if c.dist < twin.gap {
+                    twin.gap = c.dist;
+                }
+                continue;
+            }
             let features = (c.fid1.0, c.fid2.0);
-            out.push(Contact { a: i, b: j, point_world: 0.5 * (p1 + p2), normal_world, gap: c.dist, features });
+            out.push(Contact { a: i, b: j, point_world, normal_world, gap: c.dist, features });
         }
     }
 }

@@ -100,6 +100,8 @@ pub struct ContactStage {
     shifts: Vec<(DVec3, DVec3)>,
     warm: HashMap<ContactKey, [f64; 3]>,
     warm_next: HashMap<ContactKey, [f64; 3]>,
+    /// The previous step's contacts by pair: `(a, b, point_world, λ)`, sorted by pair.
+    previous: Vec<(usize, usize, DVec3, [f64; 3])>,
     /// Energy dissipated so far.
     pub energy: ContactEnergy,
     /// Collisions resolved so far.
@@ -237,7 +239,6 @@ impl ContactStage {
             self.predicted.push((sb.v, sb.w));
         }
         self.constraints.clear();
-        std::mem::swap(&mut self.warm, &mut self.warm_next);
         self.warm_next.clear();
         for c in &self.contacts {
             let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
@@ -256,15 +257,27 @@ impl ContactStage {
             if let Some(l) = self.warm.get(&(c.a, c.b, c.features.0, c.features.1)) {
                 // the previous normal impulse, and the friction impulse expressed in this step's tangents
                 k.lambda = *l;
+            } else if let Some(l) = nearest_previous(&self.previous, c) {
+                // parry renumbered the features (a clipped manifold changes its points): the
+                // previous impulse of the nearest point of the same pair, if it is close
+                k.lambda = l;
             }
             self.constraints.push(k);
         }
         for k in &self.constraints {
             k.warm_start(&mut self.bodies);
         }
-        for _ in 0..settings.iterations {
-            for k in self.constraints.iter_mut() {
-                k.solve_velocity(&mut self.bodies);
+        // symmetric Gauss–Seidel: sweeps alternate direction, so that a correction at either end
+        // of a stack reaches the other end in one sweep
+        for it in 0..settings.iterations {
+            if it % 2 == 0 {
+                for k in self.constraints.iter_mut() {
+                    k.solve_velocity(&mut self.bodies);
+                }
+            } else {
+                for k in self.constraints.iter_mut().rev() {
+                    k.solve_velocity(&mut self.bodies);
+                }
             }
         }
         for _ in 0..settings.iterations.div_ceil(2) {
@@ -272,9 +285,12 @@ impl ContactStage {
                 k.solve_position(&mut self.bodies);
             }
         }
+        self.previous.clear();
         for (c, k) in self.contacts.iter().zip(&self.constraints) {
             self.warm_next.insert((c.a, c.b, c.features.0, c.features.1), k.lambda);
+            self.previous.push((c.a, c.b, c.point_world, k.lambda));
         }
+        self.previous.sort_unstable_by_key(|p| (p.0, p.1));
         std::mem::swap(&mut self.warm, &mut self.warm_next);
         // Δv applied at the start of the step, positions shifted by −½ Δv dt plus the split correction
         for (i, b) in bodies.iter_mut().enumerate() {
@@ -303,6 +319,24 @@ impl ContactStage {
             self.shifts[i].1 += sb.w_split * dt;
         }
     }
+}
+
+/// Largest distance (m) between a contact point and the previous step's point of the same pair
+/// whose impulse it inherits when the feature ids do not match.
+const WARM_MATCH_DISTANCE: f64 = 0.02;
+
+/// The accumulated impulse of the previous step's point of the same pair nearest to `c`, if
+/// within [`WARM_MATCH_DISTANCE`].
+fn nearest_previous(previous: &[(usize, usize, DVec3, [f64; 3])], c: &Contact) -> Option<[f64; 3]> {
+    let start = previous.partition_point(|p| (p.0, p.1) < (c.a, c.b));
+    let mut best: Option<(f64, [f64; 3])> = None;
+    for p in previous[start..].iter().take_while(|p| (p.0, p.1) == (c.a, c.b)) {
+        let d = (p.2 - c.point_world).length_squared();
+        if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
+            best = Some((d, p.3));
+        }
+    }
+    best.map(|b| b.1)
 }
 
 /// The pair's friction and restitution: `μ = √(μ_a μ_b)`, `e = max(e_a, e_b)`, defaults from `settings`.
