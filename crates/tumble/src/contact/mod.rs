@@ -14,9 +14,9 @@
 //! 2. **Resting contact** ([`solver`], Catto 2005/2006): every contact, with the velocities the
 //!    bodies would have at the end of the step under gravity and their constant world forces, is
 //!    solved by sequential impulses with warm starting; the velocity change `Δv` is applied at the
-//!    start of the step and the end position of a body so held is shifted by `½ a dt²`, so that it
-//!    moves by its end-of-step velocity, `x ← x + v⁺ dt` (symplectic Euler, as Box2D: a body at
-//!    rest on the ground does not move at all, a speculative gap closes exactly). The
+//!    start of the step, and a body so held moves by its end-of-step velocity, `x ← x + v⁺ dt`
+//!    (symplectic Euler, as Box2D, whatever the integrator: a body at rest on the ground does not
+//!    move at all, a speculative gap closes exactly). The
 //!    split impulse's pseudo-velocities move overlapping bodies apart without adding energy.
 //!
 //! After the integration, [`ContactStage::finish`] applies the position and rotation shifts.
@@ -98,6 +98,8 @@ pub struct ContactStage {
     constraints: Vec<Constraint>,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
     shifts: Vec<(DVec3, DVec3)>,
+    /// The start-of-step position of each body held by resting contacts (moved by `v⁺ dt`).
+    held: Vec<Option<DVec3>>,
     warm: HashMap<ContactKey, [f64; 3]>,
     warm_next: HashMap<ContactKey, [f64; 3]>,
     /// The previous step's contacts by pair: `(a, b, point_world, λ)`, sorted by pair.
@@ -127,6 +129,8 @@ impl ContactStage {
     pub fn resolve(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
         self.shifts.clear();
         self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
+        self.held.clear();
+        self.held.resize(bodies.len(), None);
         if !settings.enabled || bodies.is_empty() {
             return;
         }
@@ -143,8 +147,11 @@ impl ContactStage {
     }
 
     /// After the integration: shifts the bodies to where the contact impulses put them.
-    pub fn finish(&mut self, bodies: &mut [RigidBody]) {
-        for (body, &(dx, dtheta)) in bodies.iter_mut().zip(&self.shifts) {
+    pub fn finish(&mut self, bodies: &mut [RigidBody], dt: f64) {
+        for ((body, &(dx, dtheta)), held) in bodies.iter_mut().zip(&self.shifts).zip(&self.held) {
+            if let (Some(start), false) = (held, body.fixed) {
+                body.state.position = *start + body.state.velocity * dt;
+            }
             if body.fixed || (dx == DVec3::ZERO && dtheta == DVec3::ZERO) {
                 continue;
             }
@@ -309,13 +316,13 @@ impl ContactStage {
             b.state.velocity += dv;
             let omega = b.state.omega_world() + dw;
             b.set_omega_world(omega);
-            // the integrator moved the body by (v + Δv) dt + ½ a dt²; a body held by contacts moves
-            // by its end-of-step velocity, v_solved dt = (v + Δv + a dt) dt (symplectic Euler, so
-            // that a body at rest stays put and the speculative gap is closed exactly): + ½ a dt²
-            let accel = gravity + b.loads.force_world * b.mass.inv_mass;
-            let held = dv != DVec3::ZERO || dw != DVec3::ZERO;
-            let settle = if held { 0.5 * accel * dt * dt } else { DVec3::ZERO };
-            self.shifts[i].0 += settle + sb.v_split * dt;
+            // a body held by contacts moves by its end-of-step velocity, x ← x + v⁺ dt (symplectic
+            // Euler, whatever the integrator: a body at rest stays put and a speculative gap closes
+            // exactly); `finish` puts it there
+            if dv != DVec3::ZERO || dw != DVec3::ZERO {
+                self.held[i] = Some(b.state.position);
+            }
+            self.shifts[i].0 += sb.v_split * dt;
             self.shifts[i].1 += sb.w_split * dt;
         }
     }

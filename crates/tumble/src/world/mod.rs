@@ -158,7 +158,7 @@ impl World {
     pub fn step(&mut self) -> Result<(), Diverged> {
         self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt);
         self.integrate_free_bodies()?;
-        self.contact.finish(&mut self.bodies);
+        self.contact.finish(&mut self.bodies, self.config.dt);
         self.steps += 1;
         Ok(())
     }
