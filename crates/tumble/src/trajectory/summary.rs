@@ -9,7 +9,8 @@
 //!
 //! Fields added beyond the contract (never renamed): `energy.error_is_absolute` and
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
-//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`.
+//! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
+//! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -101,6 +102,19 @@ pub struct Summary {
     pub flips: Vec<FlipSummary>,
     /// Where the scene came from.
     pub scene: String,
+    /// What contacts did: collisions resolved and kinetic energy they dissipated.
+    pub contact: ContactSummary,
+}
+
+/// Contacts over the run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactSummary {
+    /// Collisions resolved by integrating through the impact.
+    pub collisions: u64,
+    /// Kinetic energy dissipated in collisions (J).
+    pub energy_lost_in_collisions: f64,
+    /// Kinetic energy dissipated by friction and inelastic resting contact (J).
+    pub energy_lost_in_friction: f64,
 }
 
 impl Summary {
@@ -142,6 +156,11 @@ impl Summary {
                 .map(|c| FlipSummary { body: world.bodies[c.body].name.clone(), flips: c.count })
                 .collect(),
             scene: scene.to_string(),
+            contact: ContactSummary {
+                collisions: world.contact_collisions(),
+                energy_lost_in_collisions: world.contact_energy().collisions,
+                energy_lost_in_friction: world.contact_energy().friction,
+            },
         }
     }
 

@@ -168,6 +168,11 @@ impl World {
         self.contact.energy
     }
 
+    /// Collisions resolved since the start.
+    pub fn contact_collisions(&self) -> u64 {
+        self.contact.impacts
+    }
+
     /// The contact stage (contacts of the last step, collision shapes, collisions so far).
     pub fn contact_stage(&mut self) -> &mut ContactStage {
         &mut self.contact
