@@ -81,7 +81,8 @@ impl Default for ContactSettings {
 pub struct ContactEnergy {
     /// Kinetic energy dissipated in collisions (impacts).
     pub collisions: f64,
-    /// Kinetic energy dissipated by friction and inelastic resting contact.
+    /// Mechanical energy (kinetic plus gravitational) lost by bodies held by resting contacts:
+    /// friction, inelastic resting contact, and the overlap correction (which may add some).
     pub friction: f64,
 }
 
@@ -100,6 +101,9 @@ pub struct ContactStage {
     shifts: Vec<(DVec3, DVec3)>,
     /// The start-of-step position of each body held by resting contacts (moved by `v⁺ dt`).
     held: Vec<Option<DVec3>>,
+    /// Kinetic plus potential energy of each held body before the resting impulses (J).
+    energy_before: Vec<f64>,
+    gravity: DVec3,
     warm: HashMap<ContactKey, [f64; 3]>,
     warm_next: HashMap<ContactKey, [f64; 3]>,
     /// The previous step's contacts by pair: `(a, b, point_world, λ)`, sorted by pair.
@@ -131,6 +135,9 @@ impl ContactStage {
         self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
         self.held.clear();
         self.held.resize(bodies.len(), None);
+        self.energy_before.clear();
+        self.energy_before.resize(bodies.len(), 0.0);
+        self.gravity = gravity;
         if !settings.enabled || bodies.is_empty() {
             return;
         }
@@ -148,15 +155,23 @@ impl ContactStage {
 
     /// After the integration: shifts the bodies to where the contact impulses put them.
     pub fn finish(&mut self, bodies: &mut [RigidBody], dt: f64) {
-        for ((body, &(dx, dtheta)), held) in bodies.iter_mut().zip(&self.shifts).zip(&self.held) {
+        for (i, ((body, &(dx, dtheta)), held)) in bodies.iter_mut().zip(&self.shifts).zip(&self.held).enumerate() {
             if let (Some(start), false) = (held, body.fixed) {
                 body.state.position = *start + body.state.velocity * dt;
+            }
+            if held.is_some() && dx == DVec3::ZERO && dtheta == DVec3::ZERO {
+                let after = body.kinetic_energy() + body.potential_energy(self.gravity);
+                self.energy.friction += self.energy_before[i] - after;
             }
             if body.fixed || (dx == DVec3::ZERO && dtheta == DVec3::ZERO) {
                 continue;
             }
             body.state.position += dx;
             body.state.orientation = (quat_exp(dtheta) * body.state.orientation).normalize();
+            if held.is_some() {
+                let after = body.kinetic_energy() + body.potential_energy(self.gravity);
+                self.energy.friction += self.energy_before[i] - after;
+            }
         }
     }
 
@@ -310,9 +325,8 @@ impl ContactStage {
             if dv == DVec3::ZERO && dw == DVec3::ZERO && sb.v_split == DVec3::ZERO && sb.w_split == DVec3::ZERO {
                 continue;
             }
-            let inertia_world = b.inertia_world();
-            let kinetic = |v: DVec3, w: DVec3| 0.5 * b.mass.mass * v.length_squared() + 0.5 * w.dot(inertia_world * w);
-            self.energy.friction += kinetic(v_pred, w_pred) - kinetic(sb.v, sb.w);
+            // the mechanical energy before the contact impulses; `finish` counts what it lost
+            self.energy_before[i] = b.kinetic_energy() + b.potential_energy(gravity);
             b.state.velocity += dv;
             let omega = b.state.omega_world() + dw;
             b.set_omega_world(omega);
