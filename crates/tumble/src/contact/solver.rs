@@ -37,6 +37,10 @@ pub struct Constraint {
     pub tangent_mass: [f64; 4],
     /// `K_tt` as `[k11, k12, k22]` (1/kg).
     pub tangent_k: [f64; 3],
+    /// Angular velocity change per unit impulse along `n`, `t1`, `t2`: `I_a⁻¹ (r_a × d)`,
+    /// `I_b⁻¹ (r_b × d)` (1/(kg·m)).
+    pub ang_a: [DVec3; 3],
+    pub ang_b: [DVec3; 3],
     pub mu: f64,
     /// Allowed approach speed `max(gap, 0)/dt` (m/s).
     pub speculative: f64,
@@ -75,18 +79,6 @@ impl SolverBody {
     fn point_velocity(&self, r: DVec3) -> DVec3 {
         self.v + self.w.cross(r)
     }
-
-    #[inline]
-    fn apply(&mut self, r: DVec3, p: DVec3) {
-        self.v += self.inv_mass * p;
-        self.w += self.inv_inertia * r.cross(p);
-    }
-
-    #[inline]
-    fn apply_split(&mut self, r: DVec3, p: DVec3) {
-        self.v_split += self.inv_mass * p;
-        self.w_split += self.inv_inertia * r.cross(p);
-    }
 }
 
 impl Constraint {
@@ -124,6 +116,8 @@ impl Constraint {
             normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
             tangent_mass,
             tangent_k: [k11, k12, k22],
+            ang_a: [n, t1, t2].map(|d| ba.inv_inertia * r_a.cross(d)),
+            ang_b: [n, t1, t2].map(|d| bb.inv_inertia * r_b.cross(d)),
             mu,
             speculative: gap.max(0.0) / dt,
             bias: (settings.position_correction * penetration / dt).min(settings.max_correction_speed),
@@ -138,17 +132,22 @@ impl Constraint {
         bodies[self.b].point_velocity(self.r_b) - bodies[self.a].point_velocity(self.r_a)
     }
 
-    /// Applies the impulse `p` on B and `−p` on A.
+    /// Applies the impulse `dn n + d1 t1 + d2 t2` on B and its opposite on A, with the angular
+    /// responses `I⁻¹ (r × d)` computed once per step (no 3×3 product inside the sweeps).
     #[inline]
-    fn apply(&self, bodies: &mut [SolverBody], p: DVec3) {
-        bodies[self.a].apply(self.r_a, -p);
-        bodies[self.b].apply(self.r_b, p);
+    fn apply(&self, bodies: &mut [SolverBody], dn: f64, d1: f64, d2: f64) {
+        let p = dn * self.n + d1 * self.t1 + d2 * self.t2;
+        let a = &mut bodies[self.a];
+        a.v -= a.inv_mass * p;
+        a.w -= dn * self.ang_a[0] + d1 * self.ang_a[1] + d2 * self.ang_a[2];
+        let b = &mut bodies[self.b];
+        b.v += b.inv_mass * p;
+        b.w += dn * self.ang_b[0] + d1 * self.ang_b[1] + d2 * self.ang_b[2];
     }
 
     /// Applies the accumulated impulses of the previous step (warm start).
     pub fn warm_start(&self, bodies: &mut [SolverBody]) {
-        let p = self.lambda[0] * self.n + self.lambda[1] * self.t1 + self.lambda[2] * self.t2;
-        self.apply(bodies, p);
+        self.apply(bodies, self.lambda[0], self.lambda[1], self.lambda[2]);
     }
 
     /// One Gauss–Seidel pass over this constraint: friction (with the current normal impulse as
@@ -195,17 +194,17 @@ impl Constraint {
             l1 *= s;
             l2 *= s;
         }
-        let p = (l1 - self.lambda[1]) * self.t1 + (l2 - self.lambda[2]) * self.t2;
+        let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
         self.lambda[1] = l1;
         self.lambda[2] = l2;
-        self.apply(bodies, p);
+        self.apply(bodies, 0.0, d1, d2);
 
         // normal: u·n ≥ −speculative, λ_n ≥ 0
         let un = self.relative_velocity(bodies).dot(self.n);
         let new = (self.lambda[0] - self.normal_mass * (un + self.speculative)).max(0.0);
         let dl = new - self.lambda[0];
         self.lambda[0] = new;
-        self.apply(bodies, dl * self.n);
+        self.apply(bodies, dl, 0.0, 0.0);
     }
 
     /// One pass of the split-impulse position correction on the pseudo-velocities.
@@ -216,9 +215,13 @@ impl Constraint {
         let (ba, bb) = (&bodies[self.a], &bodies[self.b]);
         let u = (bb.v_split + bb.w_split.cross(self.r_b)) - (ba.v_split + ba.w_split.cross(self.r_a));
         let new = (self.lambda_split + self.normal_mass * (self.bias - u.dot(self.n))).max(0.0);
-        let p = (new - self.lambda_split) * self.n;
+        let dl = new - self.lambda_split;
         self.lambda_split = new;
-        bodies[self.a].apply_split(self.r_a, -p);
-        bodies[self.b].apply_split(self.r_b, p);
+        let a = &mut bodies[self.a];
+        a.v_split -= (dl * a.inv_mass) * self.n;
+        a.w_split -= dl * self.ang_a[0];
+        let b = &mut bodies[self.b];
+        b.v_split += (dl * b.inv_mass) * self.n;
+        b.w_split += dl * self.ang_b[0];
     }
 }
