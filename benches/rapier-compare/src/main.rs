@@ -16,8 +16,7 @@ use tumble::body::Shape;
 use tumble::math::{DQuat, DVec3};
 
 fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHandle>>) {
-    let mut rw = PhysicsWorld::default();
-    rw.gravity = world.config.gravity;
+    let mut rw = PhysicsWorld { gravity: world.config.gravity, ..PhysicsWorld::default() };
     rw.integration_parameters.dt = world.config.dt;
     let contact = world.config.contact;
     let mut handles = Vec::with_capacity(world.bodies.len());

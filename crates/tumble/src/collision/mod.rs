@@ -256,7 +256,7 @@ impl Colliders {
         };
         let first = out.len();
         for c in &self.manifold.points {
-            if !(c.dist <= prediction) {
+            if c.dist.is_nan() || c.dist > prediction {
                 continue;
             }
             let p1 = pose_i * c.local_p1;
@@ -276,6 +276,3 @@ impl Colliders {
         }
     }
 }
-
-#[cfg(test)]
-mod tests;

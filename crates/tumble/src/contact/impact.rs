@@ -73,13 +73,14 @@ const MAX_STEPS: usize = 100_000;
 /// friction `mu ≥ 0` and restitution `e ∈ [0, 1]` under `law`. `None` if the contact is not
 /// approaching or `K` is not usable (both bodies fixed).
 pub fn collide(k_world: DMat3, n: DVec3, u_world: DVec3, mu: f64, e: f64, law: RestitutionLaw) -> Option<Impact> {
-    if !(u_world.dot(n) < 0.0) || !k_world.is_finite() || !u_world.is_finite() {
+    let approach = u_world.dot(n);
+    if approach.is_nan() || approach >= 0.0 || !k_world.is_finite() || !u_world.is_finite() {
         return None;
     }
     let (t1, t2) = tangent_basis(n);
     let frame = DMat3::from_cols(t1, t2, n);
     let k = frame.transpose() * k_world * frame;
-    if !(k.z_axis.z > 0.0) {
+    if k.z_axis.z.is_nan() || k.z_axis.z <= 0.0 {
         return None;
     }
     let u0 = frame.transpose() * u_world;

@@ -179,7 +179,7 @@ impl Constraint {
                     let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
                     let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
                     let phi = 1.0 / norm - 1.0 / limit;
-                    if !(slope > 0.0) || phi.abs() < 1e-12 / limit {
+                    if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 / limit {
                         break;
                     }
                     nu = (nu - phi / slope).max(0.0);
