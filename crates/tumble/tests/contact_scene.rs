@@ -69,3 +69,25 @@ fn shared_scenes_load_with_their_body_counts() {
     let balls = tumble::scene::load(&root.join("balls.toml")).unwrap();
     assert_eq!(balls.world.free_bodies().count(), 1000);
 }
+
+#[test]
+fn bodies_listed_in_no_collide_pass_through_each_other() {
+    let scene = |filter: &str| {
+        format!(
+            "version = 1\n[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 0.001\n\
+             [[body]]\nname = \"a\"\nmass = 1.0\nshape = {{ type = \"sphere\", radius = 0.5 }}\nvelocity = [1.0, 0.0, 0.0]\n{filter}\n\
+             [[body]]\nname = \"b\"\nmass = 1.0\nshape = {{ type = \"sphere\", radius = 0.5 }}\nposition = [2.0, 0.0, 0.0]\n"
+        )
+    };
+    let run = |text: String| {
+        let mut w = load(&text).unwrap().world;
+        for _ in 0..2000 {
+            w.step().unwrap();
+        }
+        w.bodies[1].state.velocity.x
+    };
+    assert!(run(scene("")) > 0.1, "without a filter the spheres collide and b moves");
+    assert_eq!(run(scene("no_collide = [\"b\"]")), 0.0, "with the filter b is never touched");
+    let err = load(&scene("no_collide = [\"bb\"]")).unwrap_err();
+    assert!(err.contains("body[0].no_collide") && err.contains("did you mean `b`"), "{err}");
+}

@@ -92,6 +92,8 @@ type ContactKey = (usize, usize, u32, u32);
 #[derive(Debug, Clone, Default)]
 pub struct ContactStage {
     colliders: Option<Colliders>,
+    /// Pairs of bodies that never collide (from the scene's `no_collide` lists).
+    excluded: Vec<(usize, usize)>,
     contacts: Vec<Contact>,
     bodies: Vec<SolverBody>,
     positions: Vec<DVec3>,
@@ -118,9 +120,21 @@ impl ContactStage {
     /// The collision shapes (built at the first step).
     pub fn colliders_mut(&mut self, bodies: &[RigidBody]) -> &mut Colliders {
         if !self.colliders.as_ref().is_some_and(|c| c.matches(bodies)) {
-            self.colliders = Some(Colliders::new(bodies));
+            let mut colliders = Colliders::new(bodies);
+            for &(i, j) in &self.excluded {
+                colliders.exclude_pair(i, j);
+            }
+            self.colliders = Some(colliders);
         }
         self.colliders.as_mut().expect("just built")
+    }
+
+    /// Bodies `i` and `j` (indices into the world's bodies) never collide with each other.
+    pub fn exclude_pair(&mut self, i: usize, j: usize) {
+        self.excluded.push((i.min(j), i.max(j)));
+        if let Some(c) = &mut self.colliders {
+            c.exclude_pair(i, j);
+        }
     }
 
     /// The contacts found at the last step.

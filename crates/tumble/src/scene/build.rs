@@ -71,7 +71,9 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     if bodies.is_empty() {
         warnings.push(src.warning(None, "", "the scene has no bodies"));
     }
-    Ok(Scene { world: World::new(config, bodies), origin, warnings })
+    let mut world = World::new(config, bodies);
+    collision_filters(src, &doc, &mut world)?;
+    Ok(Scene { world, origin, warnings })
 }
 
 fn check_version(src: &Source, doc: &SceneDoc) -> Result<(), SceneError> {
@@ -253,6 +255,34 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
                 None => e,
             }
         })?;
+    }
+    Ok(())
+}
+
+/// `no_collide = ["name", ...]` of each `[[body]]` → pairs excluded from collision.
+fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<(), SceneError> {
+    for (i, entry) in doc.body.iter().enumerate() {
+        let Some(list) = &entry.value.no_collide else { continue };
+        for name in &list.value {
+            let Some(j) = world.body_index(name) else {
+                let names: Vec<&str> = world.bodies.iter().map(|b| b.name.as_str()).collect();
+                let e = src
+                    .error(list.span.as_ref(), format!("body[{i}].no_collide"), "names no body of the scene")
+                    .got(format!("\"{name}\""));
+                return Err(match nearest(name, &names) {
+                    Some(best) => e.hint(format!("did you mean `{best}`?")),
+                    None => e,
+                });
+            };
+            world.contact_stage().exclude_pair(i, j);
+        }
+    }
+    for (g, entry) in doc.grid.iter().enumerate() {
+        if let Some(list) = &entry.value.body.value.no_collide {
+            return Err(src
+                .error(list.span.as_ref(), format!("grid[{g}].body.no_collide"), "not available in a grid template")
+                .hint("list the pair on an explicit `[[body]]`"));
+        }
     }
     Ok(())
 }

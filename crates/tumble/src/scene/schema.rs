@@ -183,6 +183,8 @@ pub struct BodyDoc {
     pub linear_damping: Option<Loc<f64>>,
     /// 1/s.
     pub angular_damping: Option<Loc<f64>>,
+    /// Names of bodies this body never collides with.
+    pub no_collide: Option<Loc<Vec<String>>>,
     /// `[[body.point_force]]`.
     #[serde(default)]
     pub point_force: Vec<Loc<Table<PointForceDoc>>>,
