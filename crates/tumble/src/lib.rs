@@ -4,6 +4,8 @@
 //! - [`body`]: rigid bodies, mass properties, the Newton–Euler equations (body and world forms).
 //! - [`integrate`]: explicit and semi-implicit Euler, RK4, Dormand–Prince 5(4), and the symplectic
 //!   Lie–Poisson splittings of 2nd and 4th order.
+//! - [`collision`]: collision geometry (parry3d-f64): shapes, broad and narrow phase, contact points.
+//! - [`contact`]: collisions by integrating through the impact (Mirtich, Stronge), resting contact.
 //! - [`world`]: the world and its step.
 //! - [`scene`]: scene files (TOML/JSON) → [`world::World`], with precise errors.
 //! - [`trajectory`]: CSV and JSON Lines trajectories, the run summary.
@@ -17,6 +19,8 @@
 
 pub mod analytic;
 pub mod body;
+pub mod collision;
+pub mod contact;
 pub mod integrate;
 pub mod math;
 pub mod mesh;

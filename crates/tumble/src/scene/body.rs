@@ -15,6 +15,9 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
+/// A mesh whose convex hull exceeds its volume by more than this fraction is reported as concave.
+const MESH_HULL_TOLERANCE: f64 = 0.01;
+
 /// The shape types, as written in files.
 pub(crate) const SHAPE_TYPES: [&str; 6] = ["sphere", "box", "capsule", "cylinder", "plane", "mesh"];
 
@@ -202,6 +205,16 @@ impl BodyReader<'_, '_> {
             .map_err(|e| self.err("shape.file", file, format!("{}: {e}", path.display())))?;
         for w in loaded.warnings {
             let text = format!("{}: {w}", path.display());
+            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("shape.file"), &text));
+        }
+        // contacts see a mesh as its convex hull: say so when that fills hollows
+        let excess = crate::collision::mesh_hull_excess(&shape.mesh, shape.volume);
+        if excess > MESH_HULL_TOLERANCE {
+            let text = format!(
+                "{}: the mesh is concave (its convex hull is {:.1}% larger): it collides as its convex hull",
+                path.display(),
+                100.0 * excess
+            );
             self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("shape.file"), &text));
         }
         Ok(Shape::Mesh(Arc::new(shape)))

@@ -74,6 +74,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     }
     let mut world = World::new(config, bodies);
     world.robots = robots;
+    collision_filters(src, &doc, &mut world)?;
     Ok(Scene { world, origin, warnings })
 }
 
@@ -165,6 +166,7 @@ fn world_config(
     if let Some(l) = &w.sample_every {
         config.sample_every = l.value;
     }
+    contact_settings(src, w, &mut config)?;
     if let Some(l) = &w.integrator {
         config.integrator = l.value.parse::<Integrator>().map_err(|_| {
             let names: Vec<&str> = Integrator::ALL.iter().map(|i| i.name()).collect();
@@ -191,9 +193,17 @@ fn world_config(
             "rtol" => span(w.rtol.as_ref().and_then(|l| l.span.clone())),
             "atol" => span(w.atol.as_ref().and_then(|l| l.span.clone())),
             "sample_every" => span(w.sample_every.as_ref().and_then(|l| l.span.clone())),
+            "restitution" => span(w.restitution.as_ref().and_then(|l| l.span.clone())),
+            "friction" => span(w.friction.as_ref().and_then(|l| l.span.clone())),
+            "impact_speed" => span(w.impact_speed.as_ref().and_then(|l| l.span.clone())),
+            "slop" => span(w.contact_slop.as_ref().and_then(|l| l.span.clone())),
+            "position_correction" => span(w.position_correction.as_ref().and_then(|l| l.span.clone())),
+            "max_correction_speed" => span(w.max_correction_speed.as_ref().and_then(|l| l.span.clone())),
+            "contact_iterations" => span(w.contact_iterations.as_ref().and_then(|l| l.span.clone())),
             _ => table.span.clone(),
         };
-        src.error(at.as_ref(), format!("world.{}", e.field), e.problem).got(e.value)
+        let field = if e.field == "slop" { "contact_slop" } else { e.field };
+        src.error(at.as_ref(), format!("world.{field}"), e.problem).got(e.value)
     })?;
     if config.dt > LARGE_DT {
         let span = w.dt.as_ref().and_then(|l| l.span.as_ref());
@@ -201,4 +211,80 @@ fn world_config(
         warnings.push(src.warning(span, "world.dt", &text));
     }
     Ok(config)
+}
+
+/// The contact keys of `[world]` → `config.contact` (ranges are checked by `WorldConfig::validate`).
+fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Result<(), SceneError> {
+    use crate::contact::RestitutionLaw;
+    let finite = |key: &str, l: &Loc<f64>| -> Result<f64, SceneError> {
+        if l.value.is_finite() {
+            Ok(l.value)
+        } else {
+            Err(src.error(l.span.as_ref(), format!("world.{key}"), "must be finite").got(num(l.value)))
+        }
+    };
+    let c = &mut config.contact;
+    if let Some(l) = &w.contacts {
+        c.enabled = l.value;
+    }
+    let scalars = [
+        ("restitution", &w.restitution, &mut c.restitution),
+        ("friction", &w.friction, &mut c.friction),
+        ("impact_speed", &w.impact_speed, &mut c.impact_speed),
+        ("contact_slop", &w.contact_slop, &mut c.slop),
+        ("position_correction", &w.position_correction, &mut c.position_correction),
+        ("max_correction_speed", &w.max_correction_speed, &mut c.max_correction_speed),
+    ];
+    for (key, loc, target) in scalars {
+        if let Some(l) = loc {
+            *target = finite(key, l)?;
+        }
+    }
+    if let Some(l) = &w.contact_iterations {
+        c.iterations = l.value;
+    }
+    if let Some(l) = &w.restitution_law {
+        c.law = RestitutionLaw::from_name(&l.value).ok_or_else(|| {
+            let e = src
+                .error(
+                    l.span.as_ref(),
+                    "world.restitution_law",
+                    format!("unknown restitution law (expected one of: {})", RestitutionLaw::NAMES.join(", ")),
+                )
+                .got(format!("\"{}\"", l.value));
+            match nearest(&l.value, &RestitutionLaw::NAMES) {
+                Some(best) => e.hint(format!("did you mean `{best}`?")),
+                None => e,
+            }
+        })?;
+    }
+    Ok(())
+}
+
+/// `no_collide = ["name", ...]` of each `[[body]]` → pairs excluded from collision.
+fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<(), SceneError> {
+    for (i, entry) in doc.body.iter().enumerate() {
+        let Some(list) = &entry.value.no_collide else { continue };
+        for name in &list.value {
+            let Some(j) = world.body_index(name) else {
+                let names: Vec<&str> = world.bodies.iter().map(|b| b.name.as_str()).collect();
+                let e = src
+                    .error(list.span.as_ref(), format!("body[{i}].no_collide"), "names no body of the scene")
+                    .got(format!("\"{name}\""));
+                return Err(match nearest(name, &names) {
+                    Some(best) => e.hint(format!("did you mean `{best}`?")),
+                    None => e,
+                });
+            };
+            world.contact_stage().exclude_pair(i, j);
+        }
+    }
+    for (g, entry) in doc.grid.iter().enumerate() {
+        if let Some(list) = &entry.value.body.value.no_collide {
+            return Err(src
+                .error(list.span.as_ref(), format!("grid[{g}].body.no_collide"), "not available in a grid template")
+                .hint("list the pair on an explicit `[[body]]`"));
+        }
+    }
+    Ok(())
 }

@@ -131,6 +131,24 @@ pub struct WorldDoc {
     pub rtol: Option<Loc<f64>>,
     pub atol: Option<Loc<f64>>,
     pub sample_every: Option<Loc<u64>>,
+    /// Contacts on or off (default on).
+    pub contacts: Option<Loc<bool>>,
+    /// Default restitution of bodies that give none, [0, 1].
+    pub restitution: Option<Loc<f64>>,
+    /// Default friction of bodies that give none, ≥ 0.
+    pub friction: Option<Loc<f64>>,
+    /// `stronge` | `newton` | `poisson`.
+    pub restitution_law: Option<Loc<String>>,
+    /// m/s: approach speed above which a contact is a collision.
+    pub impact_speed: Option<Loc<f64>>,
+    /// Velocity iterations of the resting-contact solver.
+    pub contact_iterations: Option<Loc<u32>>,
+    /// m: overlap left uncorrected.
+    pub contact_slop: Option<Loc<f64>>,
+    /// Fraction of the overlap corrected per step, [0, 1].
+    pub position_correction: Option<Loc<f64>>,
+    /// m/s: largest speed of the overlap correction.
+    pub max_correction_speed: Option<Loc<f64>>,
 }
 
 /// One `[[body]]` (or the template `[grid.body]`).
@@ -172,6 +190,8 @@ pub struct BodyDoc {
     pub linear_damping: Option<Loc<f64>>,
     /// 1/s.
     pub angular_damping: Option<Loc<f64>>,
+    /// Names of bodies this body never collides with.
+    pub no_collide: Option<Loc<Vec<String>>>,
     /// `[[body.point_force]]`.
     #[serde(default)]
     pub point_force: Vec<Loc<Table<PointForceDoc>>>,

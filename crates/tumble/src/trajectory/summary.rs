@@ -11,6 +11,7 @@
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
 //! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
 //! `robots` (only when the scene has robots).
+//! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -112,6 +113,8 @@ pub struct Summary {
     /// floating-base ones in the momenta.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub robots: Vec<RobotSummary>,
+    /// What contacts did: collisions resolved and kinetic energy they dissipated.
+    pub contact: ContactSummary,
 }
 
 /// A robot of the run.
@@ -127,6 +130,17 @@ pub struct RobotSummary {
     pub links: usize,
     /// Final energy, kinetic plus gravitational potential (J).
     pub energy: f64,
+}
+
+/// Contacts over the run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactSummary {
+    /// Collisions resolved by integrating through the impact.
+    pub collisions: u64,
+    /// Kinetic energy dissipated in collisions (J).
+    pub energy_lost_in_collisions: f64,
+    /// Kinetic energy dissipated by friction and inelastic resting contact (J).
+    pub energy_lost_in_friction: f64,
 }
 
 impl Summary {
@@ -186,6 +200,11 @@ impl Summary {
                     energy: r.energy(),
                 })
                 .collect(),
+            contact: ContactSummary {
+                collisions: world.contact_collisions(),
+                energy_lost_in_collisions: world.contact_energy().collisions,
+                energy_lost_in_friction: world.contact_energy().friction,
+            },
         }
     }
 

@@ -1,6 +1,7 @@
 //! The world: bodies, configuration and the step.
 
 use crate::body::{BodyState, RigidBody};
+use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
@@ -26,6 +27,8 @@ pub struct WorldConfig {
     pub tolerances: Tolerances,
     /// Write every k-th step to the trajectory. Default `1`.
     pub sample_every: u64,
+    /// Contact settings (see [`ContactSettings`]).
+    pub contact: ContactSettings,
 }
 
 impl Default for WorldConfig {
@@ -37,6 +40,7 @@ impl Default for WorldConfig {
             integrator: Integrator::Rk4,
             tolerances: Tolerances::default(),
             sample_every: 1,
+            contact: ContactSettings::default(),
         }
     }
 }
@@ -89,7 +93,11 @@ impl WorldConfig {
         if self.sample_every == 0 {
             return bad("sample_every", "must be ≥ 1", "0".into());
         }
-        Ok(())
+        crate::contact::validate(&self.contact).map_err(|(field, problem, value)| ConfigError {
+            field,
+            problem: problem.to_string(),
+            value,
+        })
     }
 
     /// The number of steps that cover `duration`: `round(duration / dt)`.
@@ -124,6 +132,8 @@ pub struct World {
     scratch: Vec<BodyScratch>,
     /// Robots (URDF trees), in scene order, stepped after the bodies (see [`Robot`]).
     pub robots: Vec<Robot>,
+    /// Contact detection and response: buffers, warm-start impulses, dissipated energy.
+    contact: ContactStage,
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -137,7 +147,7 @@ struct BodyScratch {
 impl World {
     /// A world with these settings and bodies, at `t = 0`.
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
-        Self { config, bodies, steps: 0, scratch: Vec::new(), robots: Vec::new() }
+        Self { config, bodies, steps: 0, scratch: Vec::new(), robots: Vec::new(), contact: ContactStage::default() }
     }
 
     /// Steps taken so far.
@@ -153,22 +163,81 @@ impl World {
     }
 
     /// Advances the world by one step `dt`:
-    /// 1. integrate every free body's Newton–Euler equations with the chosen integrator;
-    /// 2. check that every state stayed finite and sane;
-    /// 3. advance the robots ([`Robot`]: the tree method matching the integrator) and check them.
+    /// 1. contacts: detect them, resolve collisions and resting contacts by impulses ([`crate::contact`]);
+    /// 2. integrate every free body's Newton–Euler equations with the chosen integrator, and check
+    ///    that every state stayed finite and sane;
+    /// 3. advance the robots ([`Robot`]: the tree method matching the integrator) and check them;
+    /// 4. contacts: move the bodies to where the impulses, applied through the step, put them.
     ///
-    /// A step that diverges is undone: on `Err` the world is exactly as it was before the call (the
-    /// last finite state), and the error names the body, the quantity, the step and the time.
+    /// A step that diverges is undone: on `Err` the bodies and robots are as they were before the call
+    /// (the last finite state), and the error names the body, the quantity, the step and the time.
     pub fn step(&mut self) -> Result<(), Diverged> {
+        // with contacts, the states are saved before the impulses change them; without, in the
+        // integration's own pass (no extra sweep over the bodies)
+        let contacts = self.contacts_possible();
+        self.save_states(contacts);
+        if contacts {
+            self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt);
+        }
+        // a step that diverges is undone for the bodies whose states were saved
+        if let Err((saved, diverged)) = self.integrate_free_bodies(!contacts) {
+            self.undo(if contacts { self.bodies.len() } else { saved });
+            return Err(diverged);
+        }
+        if let Err(diverged) = self.step_robots() {
+            self.undo(self.bodies.len());
+            return Err(diverged);
+        }
+        if contacts {
+            self.contact.finish(&mut self.bodies, self.config.dt);
+        }
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Whether the contact stage has anything to do: contacts enabled and a moving body with a shape.
+    fn contacts_possible(&self) -> bool {
+        self.config.contact.enabled && self.bodies.iter().any(|b| !b.fixed && b.shape.is_some())
+    }
+
+    /// Sizes the per-body scratch; saves every state now unless the integration will (`now`).
+    fn save_states(&mut self, now: bool) {
         if self.scratch.len() != self.bodies.len() {
             self.scratch.resize(self.bodies.len(), BodyScratch { before: BodyState::REST, step_hint: 0.0 });
         }
+        if now {
+            for (scratch, body) in self.scratch.iter_mut().zip(&self.bodies) {
+                scratch.before = body.state;
+            }
+        }
+    }
+
+    /// Energy dissipated by contacts since the start (J).
+    pub fn contact_energy(&self) -> ContactEnergy {
+        self.contact.energy
+    }
+
+    /// Collisions resolved since the start.
+    pub fn contact_collisions(&self) -> u64 {
+        self.contact.impacts
+    }
+
+    /// The contact stage (contacts of the last step, collision shapes, collisions so far).
+    pub fn contact_stage(&mut self) -> &mut ContactStage {
+        &mut self.contact
+    }
+
+    /// Integrates every free body over one step and checks its state; `save`: keep each state from
+    /// before the step in the same pass. On divergence, also the number of bodies stepped so far.
+    fn integrate_free_bodies(&mut self, save: bool) -> Result<(), (usize, Diverged)> {
         let config = self.config;
         for (index, (body, scratch)) in self.bodies.iter_mut().zip(self.scratch.iter_mut()).enumerate() {
             if body.fixed {
                 continue;
             }
-            scratch.before = body.state;
+            if save {
+                scratch.before = body.state;
+            }
             let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
             let advanced = advance_body(
                 config.integrator,
@@ -189,25 +258,17 @@ impl World {
                     step: self.steps + 1,
                     time: (self.steps + 1) as f64 * config.dt,
                 };
-                self.undo(index);
-                return Err(diverged);
+                return Err((index + 1, diverged));
             }
         }
-        // 3. the robots (a robot that diverges undoes the whole step)
-        if let Err(diverged) = self.step_robots() {
-            if !self.bodies.is_empty() {
-                self.undo(self.bodies.len() - 1);
-            }
-            return Err(diverged);
-        }
-        self.steps += 1;
         Ok(())
     }
 
-    /// Restores the states of bodies `0..=last` from before the current step.
+    /// Restores the states of the first `count` bodies from before the current step (the others
+    /// were not stepped); the robots undo their own step.
     #[cold]
-    fn undo(&mut self, last: usize) {
-        for (body, scratch) in self.bodies.iter_mut().zip(&self.scratch).take(last + 1) {
+    fn undo(&mut self, count: usize) {
+        for (body, scratch) in self.bodies.iter_mut().zip(&self.scratch).take(count) {
             if !body.fixed {
                 body.state = scratch.before;
             }

@@ -1,0 +1,296 @@
+//! Collision geometry: the only module that talks to `parry3d-f64`.
+//!
+//! What it computes, once per step, from the bodies' poses and velocities at the start of the step:
+//! the list of [`Contact`]s — body pairs whose shapes touch, overlap, or come within the distance
+//! they can close during the step (so that fast bodies are caught before they pass through thin
+//! walls: a *speculative* contact, Catto 2013, "Continuous collision", GDC).
+//!
+//! Stages:
+//! 1. **Shapes → parry shapes** ([`Colliders::new`], once): sphere → `Ball`, box → `Cuboid`,
+//!    capsule → `Capsule` (axis body z), cylinder → `Cylinder` (parry's axis is y: rotated to z),
+//!    plane → `HalfSpace` (outward normal body +z).
+//! 2. **Broad phase**: sort and sweep along world x over each body's *swept* bounding box (its box
+//!    at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
+//!    ½|g| dt²`, `ρ` the bounding radius). Pairs of fixed bodies are never tested; planes (unbounded)
+//!    are paired with every free body. Cost `O(n log n + k)` for `k` overlapping boxes.
+//! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
+//!    equal to the two bodies' sweeps, giving up to four points with their signed distance.
+//!
+//! Frames: every output is in the world frame. A body's shape is placed by its `world_from_user`
+//! pose (shapes are given in the user's body axes, centred on the centre of mass).
+//!
+//! References: parry's `contact_manifolds`; D. Baraff, "Dynamic simulation of non-penetrating rigid
+//! bodies" (1992), ch. 6 (sort and sweep).
+
+use crate::body::{RigidBody, Shape};
+use crate::math::{DQuat, DVec3};
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose;
+use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::shape::SharedShape;
+
+/// Manifold points closer than this (m) are one point.
+pub const DUPLICATE_DISTANCE: f64 = 1e-3;
+
+/// One contact point between bodies `a` and `b` (indices into `World::bodies`), world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// The first body (the normal points away from it).
+    pub a: usize,
+    /// The second body.
+    pub b: usize,
+    /// The contact point, midway between the two surfaces, world frame (m).
+    pub point_world: DVec3,
+    /// Unit normal from `a` towards `b`, world frame.
+    pub normal_world: DVec3,
+    /// Signed distance between the surfaces along the normal (m): negative when they overlap.
+    pub gap: f64,
+    /// parry's feature ids of the two touching features, stable from step to step (for warm starting).
+    pub features: (u32, u32),
+}
+
+/// The collision shapes of the bodies and the buffers of the broad and narrow phases (reused from
+/// step to step: no allocation once they have grown to the scene's size).
+#[derive(Clone)]
+pub struct Colliders {
+    /// The parry shape of each body (same index), `None` for a body without a shape.
+    shapes: Vec<Option<SharedShape>>,
+    /// `user_from_shape`: the pose of the parry shape in the user's body axes.
+    shape_offsets: Vec<Pose>,
+    /// Bodies with a plane (paired with every free body).
+    planes: Vec<usize>,
+    /// Bounding radius of each shape about the centre of mass (m).
+    radii: Vec<f64>,
+    /// Pairs the scene excludes, `(min, max)` body indices, sorted.
+    excluded: Vec<(usize, usize)>,
+    aabbs: Vec<Aabb>,
+    sweeps: Vec<f64>,
+    order: Vec<usize>,
+    pairs: Vec<(usize, usize)>,
+    manifold: ContactManifold<(), ()>,
+}
+
+impl std::fmt::Debug for Colliders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Colliders").field("shapes", &self.shapes.len()).field("planes", &self.planes).finish()
+    }
+}
+
+/// The parry shape of a body's shape and its pose in the user's body axes.
+pub fn parry_shape(shape: &Shape) -> (SharedShape, Pose) {
+    match *shape {
+        Shape::Sphere { radius } => (SharedShape::ball(radius), Pose::IDENTITY),
+        Shape::Box { half_extents: h } => (SharedShape::cuboid(h.x, h.y, h.z), Pose::IDENTITY),
+        Shape::Capsule { radius, half_height } => (SharedShape::capsule_z(half_height, radius), Pose::IDENTITY),
+        Shape::Cylinder { radius, half_height } => {
+            // parry's cylinder stands on its y axis: turn y onto z
+            let y_to_z = DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2);
+            (SharedShape::cylinder(half_height, radius), Pose::from_rotation(y_to_z))
+        }
+        Shape::Plane => (SharedShape::halfspace(DVec3::Z), Pose::IDENTITY),
+        // a mesh collides as its convex hull (its vertices are about the centre of mass, body axes)
+        Shape::Mesh(ref mesh) => (mesh_hull(&mesh.mesh), Pose::IDENTITY),
+    }
+}
+
+/// The convex hull of a mesh's vertices (a checked mesh encloses a volume, so the hull exists; a
+/// degenerate one falls back to the bounding ball).
+fn mesh_hull(mesh: &crate::mesh::TriMesh) -> SharedShape {
+    SharedShape::convex_hull(mesh.vertices()).unwrap_or_else(|| {
+        let radius = mesh.vertices().iter().map(|v| v.length()).fold(0.0, f64::max);
+        SharedShape::ball(radius)
+    })
+}
+
+/// How much larger a mesh's convex hull is than the mesh (`V_hull / V_mesh − 1`): about 0 for a convex
+/// part; a concave part collides as if its hollows were filled.
+pub fn mesh_hull_excess(mesh: &crate::mesh::TriMesh, mesh_volume: f64) -> f64 {
+    let hull_volume = mesh_hull(mesh).mass_properties(1.0).mass();
+    hull_volume / mesh_volume - 1.0
+}
+
+impl Colliders {
+    /// The collision shapes of `bodies`.
+    pub fn new(bodies: &[RigidBody]) -> Self {
+        let mut c = Self {
+            shapes: Vec::new(),
+            shape_offsets: Vec::new(),
+            planes: Vec::new(),
+            radii: Vec::new(),
+            excluded: Vec::new(),
+            aabbs: Vec::new(),
+            sweeps: Vec::new(),
+            order: Vec::new(),
+            pairs: Vec::new(),
+            manifold: ContactManifold::new(),
+        };
+        c.rebuild(bodies);
+        c
+    }
+
+    /// Rebuilds the shapes after bodies were added or removed.
+    pub fn rebuild(&mut self, bodies: &[RigidBody]) {
+        self.shapes.clear();
+        self.shape_offsets.clear();
+        self.planes.clear();
+        self.radii.clear();
+        for (i, body) in bodies.iter().enumerate() {
+            let Some(shape) = &body.shape else {
+                self.shapes.push(None);
+                self.shape_offsets.push(Pose::IDENTITY);
+                self.radii.push(0.0);
+                continue;
+            };
+            let (parry, offset) = parry_shape(shape);
+            if matches!(shape, Shape::Plane) {
+                self.planes.push(i);
+                self.radii.push(0.0);
+            } else {
+                self.radii.push(parry.compute_local_bounding_sphere().radius() + offset.translation.length());
+            }
+            self.shapes.push(Some(parry));
+            self.shape_offsets.push(offset);
+        }
+    }
+
+    /// Whether the bodies' shapes match what was built (same count).
+    pub fn matches(&self, bodies: &[RigidBody]) -> bool {
+        self.shapes.len() == bodies.len()
+    }
+
+    /// Excludes the pair of bodies `i` and `j` from collision.
+    pub fn exclude_pair(&mut self, i: usize, j: usize) {
+        let pair = (i.min(j), i.max(j));
+        if let Err(at) = self.excluded.binary_search(&pair) {
+            self.excluded.insert(at, pair);
+        }
+    }
+
+    /// Whether the pair `(i, j)` is excluded from collision.
+    pub fn is_excluded(&self, i: usize, j: usize) -> bool {
+        !self.excluded.is_empty() && self.excluded.binary_search(&(i.min(j), i.max(j))).is_ok()
+    }
+
+    /// The pose of body `i`'s parry shape in the world, `world_from_shape`.
+    fn pose(&self, bodies: &[RigidBody], i: usize) -> Pose {
+        let b = &bodies[i];
+        Pose::from_parts(b.state.position, b.orientation_user()) * self.shape_offsets[i]
+    }
+
+    /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
+    /// the distance they can close during `dt` (s) under `gravity` (m/s², world frame), plus `slop` (m).
+    pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
+        out.clear();
+        self.broad_phase(bodies, dt, gravity, slop);
+        let pairs = std::mem::take(&mut self.pairs);
+        for &(i, j) in &pairs {
+            self.narrow_phase(bodies, i, j, out);
+        }
+        self.pairs = pairs;
+    }
+
+    /// Sort and sweep along world x over the swept boxes; fills `self.pairs`.
+    fn broad_phase(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64) {
+        let n = bodies.len().min(self.shapes.len());
+        self.aabbs.clear();
+        self.sweeps.clear();
+        self.order.clear();
+        self.pairs.clear();
+        let fall = 0.5 * gravity.length() * dt * dt;
+        for i in 0..n {
+            let b = &bodies[i];
+            let sweep = if b.fixed {
+                0.0
+            } else {
+                (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt + fall
+            };
+            self.sweeps.push(sweep + 0.5 * slop);
+            let aabb = match &self.shapes[i] {
+                Some(s) if !self.planes.contains(&i) => {
+                    let pose = self.pose(bodies, i);
+                    s.compute_aabb(&pose).loosened(sweep + 0.5 * slop)
+                }
+                _ => Aabb::new_invalid(),
+            };
+            self.aabbs.push(aabb);
+            if self.shapes[i].is_some() && !self.planes.contains(&i) {
+                self.order.push(i);
+            }
+        }
+        let aabbs = &self.aabbs;
+        self.order.sort_unstable_by(|&i, &j| aabbs[i].mins.x.total_cmp(&aabbs[j].mins.x));
+        for (k, &i) in self.order.iter().enumerate() {
+            let box_i = &aabbs[i];
+            for &j in &self.order[k + 1..] {
+                let box_j = &aabbs[j];
+                if box_j.mins.x > box_i.maxs.x {
+                    break;
+                }
+                if (bodies[i].fixed && bodies[j].fixed) || !box_i.intersects(box_j) {
+                    continue;
+                }
+                self.pairs.push((i.min(j), i.max(j)));
+            }
+        }
+        for &p in &self.planes {
+            for (i, body) in bodies.iter().enumerate().take(n) {
+                if i != p && !body.fixed && self.shapes[i].is_some() && !self.planes.contains(&i) {
+                    self.pairs.push((p, i));
+                }
+            }
+        }
+        if !self.excluded.is_empty() {
+            let excluded = &self.excluded;
+            self.pairs.retain(|&(i, j)| excluded.binary_search(&(i.min(j), i.max(j))).is_err());
+        }
+    }
+
+    /// parry's contact manifold between bodies `i` and `j`, appended to `out` in the world frame.
+    fn narrow_phase(&mut self, bodies: &[RigidBody], i: usize, j: usize, out: &mut Vec<Contact>) {
+        let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return };
+        let pose_i = self.pose(bodies, i);
+        let pose_j = self.pose(bodies, j);
+        let prediction = self.sweeps[i] + self.sweeps[j];
+        let pos12 = pose_i.inv_mul(&pose_j);
+        self.manifold.points.clear();
+        let found = DefaultQueryDispatcher.contact_manifold_convex_convex(
+            &pos12,
+            shape_i.as_ref(),
+            shape_j.as_ref(),
+            None,
+            None,
+            prediction,
+            &mut self.manifold,
+        );
+        if found.is_err() {
+            return;
+        }
+        let normal_world = pose_i.rotation * self.manifold.local_n1;
+        let normal_world = if normal_world.is_finite() && normal_world.length_squared() > 0.5 {
+            normal_world.normalize()
+        } else {
+            // a degenerate manifold (coincident centres): a fixed, deterministic fallback normal
+            DVec3::Z
+        };
+        let first = out.len();
+        for c in &self.manifold.points {
+            if c.dist.is_nan() || c.dist > prediction {
+                continue;
+            }
+            let p1 = pose_i * c.local_p1;
+            let p2 = pose_j * c.local_p2;
+            let point_world = 0.5 * (p1 + p2);
+            // aligned faces give each corner twice (one per face): keep one point per place, the deeper
+            if let Some(twin) =
+                out[first..].iter_mut().find(|o| (o.point_world - point_world).length() < DUPLICATE_DISTANCE)
+            {
+                if c.dist < twin.gap {
+                    twin.gap = c.dist;
+                }
+                continue;
+            }
+            let features = (c.fid1.0, c.fid2.0);
+            out.push(Contact { a: i, b: j, point_world, normal_world, gap: c.dist, features });
+        }
+    }
+}

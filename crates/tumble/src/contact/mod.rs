@@ -1,0 +1,429 @@
+//! Contacts: collisions by integrating through the impact, resting contact by sequential impulses.
+//!
+//! The contact stage runs before the free-body integration of each step (state at `t`, step `dt`):
+//!
+//! 1. **Impacts** ([`impact`], Mirtich 1996 §4 with Stronge's law): a contact whose surfaces close
+//!    within the step, `gap = w t + ½ α t²` for some `t_c ∈ [0, dt]` (`w` the approach speed, `α`
+//!    the approach acceleration from gravity), and whose approach speed at `t_c` exceeds
+//!    [`ContactSettings::impact_speed`], is a collision. Its impulse is computed from the velocities
+//!    at `t_c` and applied at once; the bodies' end-of-step positions are then shifted by `−Δv t_c`
+//!    (and rotations by `−Δω t_c`), which is exactly where a body that moved freely until `t_c` and
+//!    with the new velocity after it would be. Contacts are swept one at a time, again and again,
+//!    until none approaches (Mirtich's sequential view): momentum travels down a chain of touching
+//!    bodies as in a Newton's cradle.
+//! 2. **Resting contact** ([`solver`], Catto 2005/2006): every contact, with the velocities the
+//!    bodies would have at the end of the step under gravity and their constant world forces, is
+//!    solved by sequential impulses with warm starting; the velocity change `Δv` is applied at the
+//!    start of the step, and a body so held moves by its end-of-step velocity, `x ← x + v⁺ dt`
+//!    (symplectic Euler, as Box2D, whatever the integrator: a body at rest on the ground does not
+//!    move at all, a speculative gap closes exactly). The
+//!    split impulse's pseudo-velocities move overlapping bodies apart without adding energy.
+//!
+//! After the integration, [`ContactStage::finish`] applies the position and rotation shifts.
+//!
+//! Material combine rules for a pair: friction `μ = √(μ_a μ_b)` (geometric mean), restitution
+//! `e = max(e_a, e_b)`; a body without a value takes the world's default. When both bodies give the
+//! same value the pair uses it.
+
+pub mod impact;
+pub mod solver;
+
+pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
+
+use crate::body::RigidBody;
+use crate::collision::{Colliders, Contact};
+use crate::math::{quat_exp, DMat3, DVec3};
+use solver::{Constraint, SolverBody};
+use std::collections::HashMap;
+
+/// Contact settings, the contact keys of `[world]`. Units SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSettings {
+    /// Whether contacts are detected and resolved at all. Default `true`.
+    pub enabled: bool,
+    /// Restitution of bodies that give none, in [0, 1]. Default `0.5`.
+    pub restitution: f64,
+    /// Coulomb friction of bodies that give none, ≥ 0. Default `0.5`.
+    pub friction: f64,
+    /// The law that ends an impact's restitution phase. Default Stronge's.
+    pub law: RestitutionLaw,
+    /// Approach speed above which a contact is a collision with restitution (m/s); slower contacts
+    /// are resting contacts, without restitution. Default `0.5`.
+    pub impact_speed: f64,
+    /// Velocity iterations of the resting-contact solver. Default `20`.
+    pub iterations: u32,
+    /// Overlap tolerated without correction (m). Default `5e-4`.
+    pub slop: f64,
+    /// Fraction of the overlap corrected per step (Baumgarte's β, applied to positions only). Default `0.2`.
+    pub position_correction: f64,
+    /// Largest speed of the position correction (m/s). Default `3` (Box2D's `contactSpeed`).
+    pub max_correction_speed: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            restitution: 0.5,
+            friction: 0.5,
+            law: RestitutionLaw::Stronge,
+            impact_speed: 0.5,
+            iterations: 20,
+            slop: 5e-4,
+            position_correction: 0.2,
+            max_correction_speed: 3.0,
+        }
+    }
+}
+
+/// Energy taken out of the bodies' motion by contacts since the start (J).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactEnergy {
+    /// Kinetic energy dissipated in collisions (impacts).
+    pub collisions: f64,
+    /// Mechanical energy (kinetic plus gravitational) lost by bodies held by resting contacts:
+    /// friction, inelastic resting contact, and the overlap correction (which may add some).
+    pub friction: f64,
+}
+
+type ContactKey = (usize, usize, u32, u32);
+
+/// The contact stage's buffers, kept from step to step (no allocation once grown).
+#[derive(Debug, Clone, Default)]
+pub struct ContactStage {
+    colliders: Option<Colliders>,
+    /// Pairs of bodies that never collide (from the scene's `no_collide` lists).
+    excluded: Vec<(usize, usize)>,
+    contacts: Vec<Contact>,
+    bodies: Vec<SolverBody>,
+    positions: Vec<DVec3>,
+    predicted: Vec<(DVec3, DVec3)>,
+    constraints: Vec<Constraint>,
+    /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
+    shifts: Vec<(DVec3, DVec3)>,
+    /// The start-of-step position of each body held by resting contacts (moved by `v⁺ dt`).
+    held: Vec<Option<DVec3>>,
+    /// Kinetic plus potential energy of each held body before the resting impulses (J).
+    energy_before: Vec<f64>,
+    gravity: DVec3,
+    warm: HashMap<ContactKey, [f64; 3]>,
+    warm_next: HashMap<ContactKey, [f64; 3]>,
+    /// The previous step's contacts by pair: `(a, b, point_world, λ)`, sorted by pair.
+    previous: Vec<(usize, usize, DVec3, [f64; 3])>,
+    /// Energy dissipated so far.
+    pub energy: ContactEnergy,
+    /// Collisions resolved so far.
+    pub impacts: u64,
+}
+
+impl ContactStage {
+    /// The collision shapes (built at the first step).
+    pub fn colliders_mut(&mut self, bodies: &[RigidBody]) -> &mut Colliders {
+        if !self.colliders.as_ref().is_some_and(|c| c.matches(bodies)) {
+            let mut colliders = Colliders::new(bodies);
+            for &(i, j) in &self.excluded {
+                colliders.exclude_pair(i, j);
+            }
+            self.colliders = Some(colliders);
+        }
+        self.colliders.as_mut().expect("just built")
+    }
+
+    /// Bodies `i` and `j` (indices into the world's bodies) never collide with each other.
+    pub fn exclude_pair(&mut self, i: usize, j: usize) {
+        self.excluded.push((i.min(j), i.max(j)));
+        if let Some(c) = &mut self.colliders {
+            c.exclude_pair(i, j);
+        }
+    }
+
+    /// The contacts found at the last step.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// Detects the contacts of the step and changes the bodies' velocities by the impulses of
+    /// collisions and resting contacts (state at the start of the step; `gravity` m/s², `dt` s).
+    pub fn resolve(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+        self.shifts.clear();
+        self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
+        self.held.clear();
+        self.held.resize(bodies.len(), None);
+        self.energy_before.clear();
+        self.energy_before.resize(bodies.len(), 0.0);
+        self.gravity = gravity;
+        if !settings.enabled || bodies.is_empty() {
+            return;
+        }
+        let mut contacts = std::mem::take(&mut self.contacts);
+        self.colliders_mut(bodies).find_contacts(bodies, dt, gravity, settings.slop, &mut contacts);
+        self.contacts = contacts;
+        if self.contacts.is_empty() {
+            self.warm.clear();
+            return;
+        }
+        self.load_bodies(bodies);
+        self.impacts(bodies, settings, gravity, dt);
+        self.resting(bodies, settings, gravity, dt);
+    }
+
+    /// After the integration: shifts the bodies to where the contact impulses put them.
+    pub fn finish(&mut self, bodies: &mut [RigidBody], dt: f64) {
+        for (i, ((body, &(dx, dtheta)), held)) in bodies.iter_mut().zip(&self.shifts).zip(&self.held).enumerate() {
+            if let (Some(start), false) = (held, body.fixed) {
+                body.state.position = *start + body.state.velocity * dt;
+            }
+            if held.is_some() && dx == DVec3::ZERO && dtheta == DVec3::ZERO {
+                let after = body.kinetic_energy() + body.potential_energy(self.gravity);
+                self.energy.friction += self.energy_before[i] - after;
+            }
+            if body.fixed || (dx == DVec3::ZERO && dtheta == DVec3::ZERO) {
+                continue;
+            }
+            body.state.position += dx;
+            body.state.orientation = (quat_exp(dtheta) * body.state.orientation).normalize();
+            if held.is_some() {
+                let after = body.kinetic_energy() + body.potential_energy(self.gravity);
+                self.energy.friction += self.energy_before[i] - after;
+            }
+        }
+    }
+
+    fn load_bodies(&mut self, bodies: &[RigidBody]) {
+        self.bodies.clear();
+        self.positions.clear();
+        for b in bodies {
+            let mut sb = SolverBody { v: b.state.velocity, w: b.state.omega_world(), ..SolverBody::FIXED };
+            if !b.fixed {
+                let r = DMat3::from_quat(b.state.orientation);
+                sb.inv_mass = b.mass.inv_mass;
+                sb.inv_inertia = crate::math::change_frame(r, DMat3::from_diagonal(b.mass.inv_inertia_body));
+            }
+            self.bodies.push(sb);
+            self.positions.push(b.state.position);
+        }
+    }
+
+    /// Writes the solver's velocities back to the bodies (world → body frame for ω).
+    fn store_velocities(&self, bodies: &mut [RigidBody]) {
+        for (b, sb) in bodies.iter_mut().zip(&self.bodies) {
+            if !b.fixed {
+                b.state.velocity = sb.v;
+                b.set_omega_world(sb.w);
+            }
+        }
+    }
+
+    /// Stage 1: collisions, one contact at a time until none approaches faster than `impact_speed`.
+    fn impacts(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+        let max_passes = 4 + 2 * self.contacts.len().min(64);
+        let mut any = false;
+        for _ in 0..max_passes {
+            let mut applied = false;
+            for ci in 0..self.contacts.len() {
+                let c = self.contacts[ci];
+                let (a, b) = (c.a, c.b);
+                let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+                let g_a = if bodies[a].fixed { DVec3::ZERO } else { gravity };
+                let g_b = if bodies[b].fixed { DVec3::ZERO } else { gravity };
+                let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
+                let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a));
+                let Some(t_c) = closing_time(c.gap, -u0.dot(c.normal_world), -(g_b - g_a).dot(c.normal_world), dt)
+                else {
+                    continue;
+                };
+                let u = u0 + (g_b - g_a) * t_c;
+                if -u.dot(c.normal_world) <= settings.impact_speed {
+                    continue;
+                }
+                let k = collision_matrix(ba.inv_mass, ba.inv_inertia, r_a, bb.inv_mass, bb.inv_inertia, r_b);
+                let (mu, e) = combine(&bodies[a], &bodies[b], settings);
+                let Some(hit) = collide(k, c.normal_world, u, mu, e, settings.law) else { continue };
+                let p = hit.impulse_world;
+                for (i, r, sign) in [(a, r_a, -1.0), (b, r_b, 1.0)] {
+                    let sb = &mut self.bodies[i];
+                    let (dv, dw) = (sb.inv_mass * sign * p, sb.inv_inertia * r.cross(sign * p));
+                    sb.v += dv;
+                    sb.w += dw;
+                    self.shifts[i].0 -= dv * t_c;
+                    self.shifts[i].1 -= dw * t_c;
+                }
+                self.energy.collisions += hit.energy_lost;
+                self.impacts += 1;
+                applied = true;
+                any = true;
+            }
+            if !applied {
+                break;
+            }
+        }
+        if any {
+            self.store_velocities(bodies);
+        }
+    }
+
+    /// Stage 2: resting contact by sequential impulses on the end-of-step velocities.
+    fn resting(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+        // predicted end-of-step velocities under gravity and the constant world force
+        self.predicted.clear();
+        for (b, sb) in bodies.iter().zip(self.bodies.iter_mut()) {
+            if !b.fixed {
+                sb.v += (gravity + b.loads.force_world * b.mass.inv_mass) * dt;
+            }
+            sb.v_split = DVec3::ZERO;
+            sb.w_split = DVec3::ZERO;
+            self.predicted.push((sb.v, sb.w));
+        }
+        self.constraints.clear();
+        self.warm_next.clear();
+        for c in &self.contacts {
+            let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
+            let mut k = Constraint::new(
+                &self.bodies,
+                &self.positions,
+                c.a,
+                c.b,
+                c.point_world,
+                c.normal_world,
+                c.gap,
+                mu,
+                dt,
+                settings,
+            );
+            if let Some(l) = self.warm.get(&(c.a, c.b, c.features.0, c.features.1)) {
+                // the previous normal impulse, and the friction impulse expressed in this step's tangents
+                k.lambda = *l;
+            } else if let Some(l) = nearest_previous(&self.previous, c) {
+                // parry renumbered the features (a clipped manifold changes its points): the
+                // previous impulse of the nearest point of the same pair, if it is close
+                k.lambda = l;
+            }
+            self.constraints.push(k);
+        }
+        for k in &self.constraints {
+            k.warm_start(&mut self.bodies);
+        }
+        // symmetric Gauss–Seidel: sweeps alternate direction, so that a correction at either end
+        // of a stack reaches the other end in one sweep
+        for it in 0..settings.iterations {
+            if it % 2 == 0 {
+                for k in self.constraints.iter_mut() {
+                    k.solve_velocity(&mut self.bodies);
+                }
+            } else {
+                for k in self.constraints.iter_mut().rev() {
+                    k.solve_velocity(&mut self.bodies);
+                }
+            }
+        }
+        for _ in 0..settings.iterations.div_ceil(2) {
+            for k in self.constraints.iter_mut() {
+                k.solve_position(&mut self.bodies);
+            }
+        }
+        self.previous.clear();
+        for (c, k) in self.contacts.iter().zip(&self.constraints) {
+            self.warm_next.insert((c.a, c.b, c.features.0, c.features.1), k.lambda);
+            self.previous.push((c.a, c.b, c.point_world, k.lambda));
+        }
+        self.previous.sort_unstable_by_key(|p| (p.0, p.1));
+        std::mem::swap(&mut self.warm, &mut self.warm_next);
+        // Δv applied at the start of the step, positions shifted by −½ Δv dt plus the split correction
+        for (i, b) in bodies.iter_mut().enumerate() {
+            if b.fixed {
+                continue;
+            }
+            let sb = &self.bodies[i];
+            let (v_pred, w_pred) = self.predicted[i];
+            let (dv, dw) = (sb.v - v_pred, sb.w - w_pred);
+            if dv == DVec3::ZERO && dw == DVec3::ZERO && sb.v_split == DVec3::ZERO && sb.w_split == DVec3::ZERO {
+                continue;
+            }
+            // the mechanical energy before the contact impulses; `finish` counts what it lost
+            self.energy_before[i] = b.kinetic_energy() + b.potential_energy(gravity);
+            b.state.velocity += dv;
+            let omega = b.state.omega_world() + dw;
+            b.set_omega_world(omega);
+            // a body held by contacts moves by its end-of-step velocity, x ← x + v⁺ dt (symplectic
+            // Euler, whatever the integrator: a body at rest stays put and a speculative gap closes
+            // exactly); `finish` puts it there
+            if dv != DVec3::ZERO || dw != DVec3::ZERO {
+                self.held[i] = Some(b.state.position);
+            }
+            self.shifts[i].0 += sb.v_split * dt;
+            self.shifts[i].1 += sb.w_split * dt;
+        }
+    }
+}
+
+/// Largest distance (m) between a contact point and the previous step's point of the same pair
+/// whose impulse it inherits when the feature ids do not match.
+const WARM_MATCH_DISTANCE: f64 = 0.02;
+
+/// The accumulated impulse of the previous step's point of the same pair nearest to `c`, if
+/// within [`WARM_MATCH_DISTANCE`].
+fn nearest_previous(previous: &[(usize, usize, DVec3, [f64; 3])], c: &Contact) -> Option<[f64; 3]> {
+    let start = previous.partition_point(|p| (p.0, p.1) < (c.a, c.b));
+    let mut best: Option<(f64, [f64; 3])> = None;
+    for p in previous[start..].iter().take_while(|p| (p.0, p.1) == (c.a, c.b)) {
+        let d = (p.2 - c.point_world).length_squared();
+        if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
+            best = Some((d, p.3));
+        }
+    }
+    best.map(|b| b.1)
+}
+
+/// The pair's friction and restitution: `μ = √(μ_a μ_b)`, `e = max(e_a, e_b)`, defaults from `settings`.
+pub fn combine(a: &RigidBody, b: &RigidBody, settings: &ContactSettings) -> (f64, f64) {
+    let mu = |body: &RigidBody| body.material.friction.unwrap_or(settings.friction);
+    let e = |body: &RigidBody| body.material.restitution.unwrap_or(settings.restitution);
+    ((mu(a) * mu(b)).sqrt(), e(a).max(e(b)))
+}
+
+/// The first time `t ∈ [0, dt]` (s) at which a gap `gap` (m) closes, `gap = w t + ½ α t²`, with
+/// approach speed `w` (m/s) and approach acceleration `α` (m/s²); `None` if it stays open.
+fn closing_time(gap: f64, w: f64, alpha: f64, dt: f64) -> Option<f64> {
+    if gap <= 0.0 {
+        return (w > 0.0).then_some(0.0);
+    }
+    let disc = w * w + 2.0 * alpha * gap;
+    if disc < 0.0 {
+        return None;
+    }
+    // the stable form of the smaller positive root, 2 gap / (w + √disc)
+    let denom = w + disc.sqrt();
+    if denom <= 0.0 {
+        return None;
+    }
+    let t = 2.0 * gap / denom;
+    (t <= dt).then_some(t)
+}
+
+/// Checks the settings: `field`, problem, value on failure.
+pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, String)> {
+    let unit = |x: f64| x.is_finite() && (0.0..=1.0).contains(&x);
+    let nonneg = |x: f64| x.is_finite() && x >= 0.0;
+    let checks = [
+        ("restitution", unit(s.restitution), "must be in [0, 1]", s.restitution),
+        ("friction", nonneg(s.friction), "must be finite and ≥ 0", s.friction),
+        ("impact_speed", nonneg(s.impact_speed), "must be finite and ≥ 0 (m/s)", s.impact_speed),
+        ("slop", nonneg(s.slop), "must be finite and ≥ 0 (m)", s.slop),
+        ("position_correction", unit(s.position_correction), "must be in [0, 1]", s.position_correction),
+        (
+            "max_correction_speed",
+            nonneg(s.max_correction_speed),
+            "must be finite and ≥ 0 (m/s)",
+            s.max_correction_speed,
+        ),
+    ];
+    for (field, ok, problem, value) in checks {
+        if !ok {
+            return Err((field, problem, value.to_string()));
+        }
+    }
+    if s.iterations == 0 || s.iterations > 10_000 {
+        return Err(("contact_iterations", "must be in 1..=10000", s.iterations.to_string()));
+    }
+    Ok(())
+}

@@ -1,0 +1,93 @@
+//! The contact keys of scene files: `[world]` settings, per-body materials, bad input, and the
+//! shared scenes `pyramid` and `balls`.
+
+use tumble::contact::RestitutionLaw;
+use tumble::scene::{from_str, Format};
+
+fn load(text: &str) -> Result<tumble::scene::Scene, String> {
+    from_str(text, "test.toml", Format::Toml).map_err(|e| e.to_string())
+}
+
+#[test]
+fn world_contact_settings_are_read() {
+    let s = load(
+        "version = 1\n[world]\nrestitution = 0.3\nfriction = 0.7\nrestitution_law = \"poisson\"\nimpact_speed = 1.5\n\
+         contact_iterations = 12\ncontact_slop = 0.001\nposition_correction = 0.4\nmax_correction_speed = 2.0\ncontacts = false\n",
+    )
+    .unwrap();
+    let c = s.world.config.contact;
+    assert_eq!((c.restitution, c.friction, c.law), (0.3, 0.7, RestitutionLaw::Poisson));
+    assert_eq!((c.impact_speed, c.iterations, c.slop), (1.5, 12, 0.001));
+    assert_eq!((c.position_correction, c.max_correction_speed, c.enabled), (0.4, 2.0, false));
+}
+
+#[test]
+fn bad_contact_settings_name_the_field_and_the_line() {
+    let cases = [
+        ("restitution = 1.5", "world.restitution"),
+        ("friction = -0.1", "world.friction"),
+        ("restitution_law = \"newtn\"", "world.restitution_law"),
+        ("contact_iterations = 0", "world.contact_iterations"),
+        ("contact_slop = -1.0", "world.contact_slop"),
+        ("position_correction = 2.0", "world.position_correction"),
+        ("impact_speed = nan", "world.impact_speed"),
+    ];
+    for (line, field) in cases {
+        let err = load(&format!("version = 1\n[world]\n{line}\n")).unwrap_err();
+        assert!(err.contains(field), "`{line}`: {err}");
+        assert!(err.contains("test.toml:3:"), "`{line}`: no line in {err}");
+    }
+    let err = load("version = 1\n[world]\nrestitution_law = \"newtn\"\n").unwrap_err();
+    assert!(err.contains("did you mean `newton`"), "{err}");
+}
+
+#[test]
+fn bad_body_materials_and_shapes_are_rejected() {
+    let body = |extra: &str| format!("version = 1\n[[body]]\nname = \"b\"\nmass = 1.0\n{extra}\n");
+    let cases = [
+        ("shape = { type = \"sphere\", radius = 0.0 }", "shape.radius"),
+        ("shape = { type = \"box\", half_extents = [1.0, -1.0, 1.0] }", "shape.half_extents"),
+        ("shape = { type = \"plane\" }", "shape"),
+        ("shape = { type = \"sphere\", radius = 1.0 }\nrestitution = 1.2", "restitution"),
+        ("shape = { type = \"sphere\", radius = 1.0 }\nfriction = -0.5", "friction"),
+    ];
+    for (extra, field) in cases {
+        let err = load(&body(extra)).unwrap_err();
+        assert!(err.contains(&format!("body[0].{field}")), "`{extra}`: {err}");
+    }
+    // a moving body with neither a shape nor an inertia
+    let err = load("version = 1\n[[body]]\nname = \"b\"\nmass = 1.0\n").unwrap_err();
+    assert!(err.contains("body[0].mass"), "{err}");
+}
+
+#[test]
+fn shared_scenes_load_with_their_body_counts() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let pyramid = tumble::scene::load(&root.join("pyramid.toml")).unwrap();
+    assert_eq!(pyramid.world.free_bodies().count(), 210);
+    assert_eq!(pyramid.world.config.contact.friction, 0.5);
+    let balls = tumble::scene::load(&root.join("balls.toml")).unwrap();
+    assert_eq!(balls.world.free_bodies().count(), 1000);
+}
+
+#[test]
+fn bodies_listed_in_no_collide_pass_through_each_other() {
+    let scene = |filter: &str| {
+        format!(
+            "version = 1\n[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 0.001\n\
+             [[body]]\nname = \"a\"\nmass = 1.0\nshape = {{ type = \"sphere\", radius = 0.5 }}\nvelocity = [1.0, 0.0, 0.0]\n{filter}\n\
+             [[body]]\nname = \"b\"\nmass = 1.0\nshape = {{ type = \"sphere\", radius = 0.5 }}\nposition = [2.0, 0.0, 0.0]\n"
+        )
+    };
+    let run = |text: String| {
+        let mut w = load(&text).unwrap().world;
+        for _ in 0..2000 {
+            w.step().unwrap();
+        }
+        w.bodies[1].state.velocity.x
+    };
+    assert!(run(scene("")) > 0.1, "without a filter the spheres collide and b moves");
+    assert_eq!(run(scene("no_collide = [\"b\"]")), 0.0, "with the filter b is never touched");
+    let err = load(&scene("no_collide = [\"bb\"]")).unwrap_err();
+    assert!(err.contains("body[0].no_collide") && err.contains("did you mean `b`"), "{err}");
+}
