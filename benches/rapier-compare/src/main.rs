@@ -32,6 +32,10 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
             Shape::Cylinder { radius, half_height } => ColliderBuilder::cylinder(half_height, radius)
                 .rotation(DVec3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0)),
             Shape::Plane => ColliderBuilder::halfspace(rapier3d_f64::na::Unit::new_unchecked(Vector::Z)),
+            // tumble collides a mesh as its convex hull: so does the comparison
+            Shape::Mesh(ref mesh) => {
+                ColliderBuilder::convex_hull(mesh.mesh.vertices()).expect("a closed mesh has a hull")
+            }
         };
         let friction = b.material.friction.unwrap_or(contact.friction);
         let restitution = b.material.restitution.unwrap_or(contact.restitution);
