@@ -2,7 +2,10 @@
 //! the ratio, and the stability of the pyramid (the largest displacement of a body after the run).
 //!
 //! Usage: `cargo run --release -p rapier-compare -- [STEPS] [SCENE.toml ...]`
-//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`).
+//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`). A scene with
+//! `contacts = false` (`scenes/many.toml`: 10,000 free tumbling bodies) is built in Rapier as bodies
+//! without colliders carrying the same mass and principal inertia: a comparison of the free-body
+//! integration alone.
 //!
 //! The Rapier world is built from the tumble world the scene loader produced: same shapes, poses,
 //! velocities, masses (Rapier computes the inertia from the shape and the mass, as tumble does for a
@@ -21,6 +24,23 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
     let contact = world.config.contact;
     let mut handles = Vec::with_capacity(world.bodies.len());
     for b in &world.bodies {
+        if !contact.enabled && !b.fixed {
+            // free bodies (contacts off in the scene): no collider, the body's own mass properties
+            let mass = MassProperties::with_principal_inertia_frame(
+                DVec3::ZERO,
+                b.mass.mass,
+                b.mass.inertia_body,
+                b.mass.user_from_body,
+            );
+            let body = RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(b.state.position, b.orientation_user()))
+                .linvel(b.state.velocity)
+                .angvel(b.state.omega_world())
+                .additional_mass_properties(mass)
+                .can_sleep(false);
+            handles.push(Some(rw.insert_body(body)));
+            continue;
+        }
         let Some(shape) = &b.shape else {
             handles.push(None);
             continue;
