@@ -195,17 +195,7 @@ impl SplitMix {
 /// A random configuration: angles and displacements in [−1, 1], unit quaternions.
 fn random_q(model: &MultibodyModel, rng: &mut SplitMix) -> Vec<f64> {
     let mut q: Vec<f64> = (0..model.nq()).map(|_| rng.uniform(-1.0, 1.0)).collect();
-    for body in &model.bodies {
-        let j = &body.joint;
-        let start = match j.kind {
-            JointKind::Spherical => j.q_index,
-            JointKind::Floating => j.q_index + 3,
-            _ => continue,
-        };
-        let quat = &mut q[start..start + 4];
-        let n = quat.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-3);
-        quat.iter_mut().for_each(|x| *x /= n);
-    }
+    tumble::multibody::simulate::normalize_quaternions(model, &mut q);
     q
 }
 

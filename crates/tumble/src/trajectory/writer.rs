@@ -171,37 +171,13 @@ impl<W: Write> TrajectoryWriter<W> {
             if body.fixed {
                 continue;
             }
-            let row = Row::of(body);
-            let line = &mut self.line;
-            line.clear();
-            push_f64(line, t);
-            line.push(b',');
-            line.extend_from_slice(name.as_bytes());
-            for values in [&row.position[..], &row.orientation, &row.velocity, &row.angular_velocity] {
-                for &x in values {
-                    line.push(b',');
-                    push_f64(line, x);
-                }
-            }
-            line.push(b'\n');
-            self.sink.write_all(line)?;
+            csv_row(&mut self.line, t, name, &Row::of(body));
+            self.sink.write_all(&self.line)?;
         }
         for (robot, (_, links)) in world.robots.iter().zip(&self.robot_names) {
             for (k, name) in links.iter().enumerate() {
-                let row = Row::of_link(robot, k);
-                let line = &mut self.line;
-                line.clear();
-                push_f64(line, t);
-                line.push(b',');
-                line.extend_from_slice(name.as_bytes());
-                for values in [&row.position[..], &row.orientation, &row.velocity, &row.angular_velocity] {
-                    for &x in values {
-                        line.push(b',');
-                        push_f64(line, x);
-                    }
-                }
-                line.push(b'\n');
-                self.sink.write_all(line)?;
+                csv_row(&mut self.line, t, name, &Row::of_link(robot, k));
+                self.sink.write_all(&self.line)?;
             }
         }
         Ok(())
@@ -319,4 +295,19 @@ fn csv_field(text: &str) -> String {
     } else {
         text.to_string()
     }
+}
+
+/// One CSV row `t,name,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz` into `line` (cleared first).
+fn csv_row(line: &mut Vec<u8>, t: f64, name: &str, row: &Row) {
+    line.clear();
+    push_f64(line, t);
+    line.push(b',');
+    line.extend_from_slice(name.as_bytes());
+    for values in [&row.position[..], &row.orientation, &row.velocity, &row.angular_velocity] {
+        for &x in values {
+            line.push(b',');
+            push_f64(line, x);
+        }
+    }
+    line.push(b'\n');
 }
