@@ -20,7 +20,7 @@ use serde_json::{json, Map, Value};
 use std::io::{BufWriter, Write};
 use std::time::Instant;
 use tumble::math::DVec3;
-use tumble::multibody::{aba, bias_forces, crba, rnea, JointKind, MultibodyModel, Workspace};
+use tumble::multibody::{aba, bias_forces, crba, rnea, MultibodyModel, Workspace};
 
 /// Input files larger than this are refused before reading (bytes).
 const MAX_INPUT_BYTES: u64 = 512 << 20;
@@ -158,13 +158,7 @@ fn finite(what: &str, x: &[f64]) -> Result<Value, String> {
 
 /// The quaternions of spherical and floating joints must have unit length (to 1e-6).
 fn check_quaternions(model: &MultibodyModel, q: &[f64]) -> Result<(), String> {
-    for body in &model.bodies {
-        let j = &body.joint;
-        let start = match j.kind {
-            JointKind::Spherical => j.q_index,
-            JointKind::Floating => j.q_index + 3,
-            _ => continue,
-        };
+    for (j, start) in tumble::multibody::simulate::quaternion_slots(model) {
         let norm = q[start..start + 4].iter().map(|x| x * x).sum::<f64>().sqrt();
         if (norm - 1.0).abs() > 1e-6 {
             return Err(format!(

@@ -12,7 +12,7 @@
 
 use super::aba::{aba, AbaError};
 use super::joint::JointKind;
-use super::model::MultibodyModel;
+use super::model::{Joint, MultibodyModel};
 use super::workspace::{check_len, LengthError, Workspace};
 
 /// Joint forces as a function of the state. Vectors are indexed by velocity coordinate (length nv)
@@ -203,15 +203,22 @@ impl Simulator {
     }
 }
 
+/// The joints that carry a unit quaternion in `q` (spherical and floating), each with the index of
+/// its quaternion's first component `[w, x, y, z]`.
+pub fn quaternion_slots(model: &MultibodyModel) -> impl Iterator<Item = (&Joint, usize)> {
+    model.bodies.iter().filter_map(|body| {
+        let j = &body.joint;
+        match j.kind {
+            JointKind::Spherical => Some((j, j.q_index)),
+            JointKind::Floating => Some((j, j.q_index + 3)),
+            _ => None,
+        }
+    })
+}
+
 /// Projects the quaternions of spherical and floating joints back onto the unit sphere.
 pub fn normalize_quaternions(model: &MultibodyModel, q: &mut [f64]) {
-    for body in &model.bodies {
-        let j = &body.joint;
-        let start = match j.kind {
-            JointKind::Spherical => j.q_index,
-            JointKind::Floating => j.q_index + 3,
-            _ => continue,
-        };
+    for (_, start) in quaternion_slots(model) {
         let quat = &mut q[start..start + 4];
         let n = quat.iter().map(|x| x * x).sum::<f64>().sqrt();
         if n > 0.0 && n.is_finite() {

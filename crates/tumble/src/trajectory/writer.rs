@@ -195,36 +195,14 @@ impl<W: Write> TrajectoryWriter<W> {
             if body.fixed {
                 continue;
             }
-            let row = Row::of(body);
-            line.clear();
-            if !first {
-                line.push(b',');
-            }
+            json_body(line, !first, name, &Row::of(body));
             first = false;
-            line.extend_from_slice(b"{\"name\":");
-            line.extend_from_slice(name.as_bytes());
-            push_array(line, b",\"position\":", &row.position);
-            push_array(line, b",\"orientation\":", &row.orientation);
-            push_array(line, b",\"velocity\":", &row.velocity);
-            push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
-            line.push(b'}');
             self.sink.write_all(line)?;
         }
         for (robot, (_, links)) in world.robots.iter().zip(&self.robot_names) {
             for (k, name) in links.iter().enumerate() {
-                let row = Row::of_link(robot, k);
-                line.clear();
-                if !first {
-                    line.push(b',');
-                }
+                json_body(line, !first, name, &Row::of_link(robot, k));
                 first = false;
-                line.extend_from_slice(b"{\"name\":");
-                line.extend_from_slice(name.as_bytes());
-                push_array(line, b",\"position\":", &row.position);
-                push_array(line, b",\"orientation\":", &row.orientation);
-                push_array(line, b",\"velocity\":", &row.velocity);
-                push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
-                line.push(b'}');
                 self.sink.write_all(line)?;
             }
         }
@@ -310,4 +288,20 @@ fn csv_row(line: &mut Vec<u8>, t: f64, name: &str, row: &Row) {
         }
     }
     line.push(b'\n');
+}
+
+/// One body object of a JSON Lines sample into `line` (cleared first), preceded by a comma when
+/// `comma`; `name` is already a JSON string literal.
+fn json_body(line: &mut Vec<u8>, comma: bool, name: &str, row: &Row) {
+    line.clear();
+    if comma {
+        line.push(b',');
+    }
+    line.extend_from_slice(b"{\"name\":");
+    line.extend_from_slice(name.as_bytes());
+    push_array(line, b",\"position\":", &row.position);
+    push_array(line, b",\"orientation\":", &row.orientation);
+    push_array(line, b",\"velocity\":", &row.velocity);
+    push_array(line, b",\"angular_velocity\":", &row.angular_velocity);
+    line.push(b'}');
 }
