@@ -12,13 +12,14 @@ fn load(text: &str) -> Result<tumble::scene::Scene, String> {
 fn world_contact_settings_are_read() {
     let s = load(
         "version = 1\n[world]\nrestitution = 0.3\nfriction = 0.7\nrestitution_law = \"poisson\"\nimpact_speed = 1.5\n\
-         contact_iterations = 12\ncontact_slop = 0.001\nposition_correction = 0.4\nmax_correction_speed = 2.0\ncontacts = false\n",
+         contact_iterations = 12\ncontact_substeps = 6\ncontact_slop = 0.001\ncontact_hertz = 45.0\ncontact_damping_ratio = 2.0\nmax_correction_speed = 2.0\ncontacts = false\n",
     )
     .unwrap();
     let c = s.world.config.contact;
     assert_eq!((c.restitution, c.friction, c.law), (0.3, 0.7, RestitutionLaw::Poisson));
     assert_eq!((c.impact_speed, c.iterations, c.slop), (1.5, 12, 0.001));
-    assert_eq!((c.position_correction, c.max_correction_speed, c.enabled), (0.4, 2.0, false));
+    assert_eq!((c.substeps, c.hertz, c.damping_ratio), (6, 45.0, 2.0));
+    assert_eq!((c.max_correction_speed, c.enabled), (2.0, false));
 }
 
 #[test]
@@ -29,7 +30,9 @@ fn bad_contact_settings_name_the_field_and_the_line() {
         ("restitution_law = \"newtn\"", "world.restitution_law"),
         ("contact_iterations = 0", "world.contact_iterations"),
         ("contact_slop = -1.0", "world.contact_slop"),
-        ("position_correction = 2.0", "world.position_correction"),
+        ("contact_hertz = -2.0", "world.contact_hertz"),
+        ("contact_substeps = 0", "world.contact_substeps"),
+        ("contact_damping_ratio = -1.0", "world.contact_damping_ratio"),
         ("impact_speed = nan", "world.impact_speed"),
     ];
     for (line, field) in cases {

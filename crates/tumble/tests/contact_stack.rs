@@ -21,8 +21,6 @@ fn run(w: &mut tumble::World, seconds: f64) -> f64 {
 }
 
 #[test]
-#[ignore = "fails: the top box wanders 2.1 cm in 10 s at dt = 1/60 with 20 iterations (a residual rocking, \
-            kinetic energy ~3e-4 J, that more iterations do not remove until ~300); under investigation"]
 fn ten_boxes_stacked_stay_put_for_ten_seconds() {
     let h = DVec3::splat(0.5);
     let mut bodies = vec![material(ground(DQuat::IDENTITY), 0.5, 0.0)];

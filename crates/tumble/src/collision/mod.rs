@@ -32,6 +32,10 @@ use parry3d_f64::shape::SharedShape;
 /// Manifold points closer than this (m) are one point.
 pub const DUPLICATE_DISTANCE: f64 = 1e-3;
 
+/// The least distance (m) beyond the step's motion at which a pair is still tested: touching
+/// bodies stay in the contact list even with no slop.
+pub const PREDICTION_MARGIN: f64 = 1e-3;
+
 /// One contact point between bodies `a` and `b` (indices into `World::bodies`), world frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
@@ -178,10 +182,12 @@ impl Colliders {
     }
 
     /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
-    /// the distance they can close during `dt` (s) under `gravity` (m/s², world frame), plus `slop` (m).
+    /// the distance they can close during `dt` (s) under `gravity` (m/s², world frame), plus `slop` (m) or
+    /// [`PREDICTION_MARGIN`], whichever is larger.
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
         out.clear();
-        self.broad_phase(bodies, dt, gravity, slop);
+        // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
+        self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
         let pairs = std::mem::take(&mut self.pairs);
         for &(i, j) in &pairs {
             self.narrow_phase(bodies, i, j, out);
@@ -243,6 +249,8 @@ impl Colliders {
             let excluded = &self.excluded;
             self.pairs.retain(|&(i, j)| excluded.binary_search(&(i.min(j), i.max(j))).is_err());
         }
+        // pairs in index order: the contacts come out grouped by pair, in the same order every run
+        self.pairs.sort_unstable();
     }
 
     /// parry's contact manifold between bodies `i` and `j`, appended to `out` in the world frame.

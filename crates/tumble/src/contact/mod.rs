@@ -32,9 +32,8 @@ pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
 
 use crate::body::RigidBody;
 use crate::collision::{Colliders, Contact};
-use crate::math::{quat_exp, DMat3, DVec3};
+use crate::math::{quat_exp, DMat3, DQuat, DVec3};
 use solver::{Constraint, SolverBody};
-use std::collections::HashMap;
 
 /// Contact settings, the contact keys of `[world]`. Units SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,12 +49,18 @@ pub struct ContactSettings {
     /// Approach speed above which a contact is a collision with restitution (m/s); slower contacts
     /// are resting contacts, without restitution. Default `0.5`.
     pub impact_speed: f64,
-    /// Velocity iterations of the resting-contact solver. Default `20`.
+    /// Substeps of the resting-contact solver per step. Default `6`.
+    pub substeps: u32,
+    /// Solver passes per substep (each followed by as many relaxation passes). Default `1`.
     pub iterations: u32,
-    /// Overlap tolerated without correction (m). Default `5e-4`.
+    /// Overlap tolerated without correction (m). Default `0`: the spring below holds the overlap
+    /// of a body resting on another at `m g/(m_n ω²)`, a fraction of a millimetre.
     pub slop: f64,
-    /// Fraction of the overlap corrected per step (Baumgarte's β, applied to positions only). Default `0.2`.
-    pub position_correction: f64,
+    /// Frequency of the spring that pushes overlapping bodies apart (Hz); at most a quarter of the
+    /// substep rate, twice it against a fixed body. Default `60`.
+    pub hertz: f64,
+    /// Damping ratio of that spring. Default `10` (overdamped: no bounce from the correction).
+    pub damping_ratio: f64,
     /// Largest speed of the position correction (m/s). Default `3` (Box2D's `contactSpeed`).
     pub max_correction_speed: f64,
 }
@@ -68,9 +73,11 @@ impl Default for ContactSettings {
             friction: 0.5,
             law: RestitutionLaw::Stronge,
             impact_speed: 0.5,
-            iterations: 20,
-            slop: 5e-4,
-            position_correction: 0.2,
+            substeps: 6,
+            iterations: 1,
+            slop: 0.0,
+            hertz: 60.0,
+            damping_ratio: 10.0,
             max_correction_speed: 3.0,
         }
     }
@@ -86,7 +93,15 @@ pub struct ContactEnergy {
     pub friction: f64,
 }
 
-type ContactKey = (usize, usize, u32, u32);
+/// A contact point of the previous step and its accumulated impulses `λ_n, λ_t1, λ_t2` (N·s).
+#[derive(Debug, Clone, Copy)]
+struct Previous {
+    a: usize,
+    b: usize,
+    features: (u32, u32),
+    point_world: DVec3,
+    lambda: [f64; 3],
+}
 
 /// The contact stage's buffers, kept from step to step (no allocation once grown).
 #[derive(Debug, Clone, Default)]
@@ -101,15 +116,17 @@ pub struct ContactStage {
     constraints: Vec<Constraint>,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
     shifts: Vec<(DVec3, DVec3)>,
-    /// The start-of-step position of each body held by resting contacts (moved by `v⁺ dt`).
-    held: Vec<Option<DVec3>>,
+    /// Where the substeps of the resting-contact solver moved each body they held: position (m)
+    /// and orientation.
+    held: Vec<Option<(DVec3, DQuat)>>,
+    /// The bodies the resting constraints move, and a flag per body for building that list.
+    active: Vec<usize>,
+    in_active: Vec<bool>,
     /// Kinetic plus potential energy of each held body before the resting impulses (J).
     energy_before: Vec<f64>,
     gravity: DVec3,
-    warm: HashMap<ContactKey, [f64; 3]>,
-    warm_next: HashMap<ContactKey, [f64; 3]>,
-    /// The previous step's contacts by pair: `(a, b, point_world, λ)`, sorted by pair.
-    previous: Vec<(usize, usize, DVec3, [f64; 3])>,
+    /// The previous step's contacts and their impulses, sorted by pair (warm starting).
+    previous: Vec<Previous>,
     /// Energy dissipated so far.
     pub energy: ContactEnergy,
     /// Collisions resolved so far.
@@ -149,6 +166,7 @@ impl ContactStage {
         self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
         self.held.clear();
         self.held.resize(bodies.len(), None);
+        self.in_active.resize(bodies.len(), false);
         self.energy_before.clear();
         self.energy_before.resize(bodies.len(), 0.0);
         self.gravity = gravity;
@@ -159,7 +177,7 @@ impl ContactStage {
         self.colliders_mut(bodies).find_contacts(bodies, dt, gravity, settings.slop, &mut contacts);
         self.contacts = contacts;
         if self.contacts.is_empty() {
-            self.warm.clear();
+            self.previous.clear();
             return;
         }
         self.load_bodies(bodies);
@@ -167,21 +185,21 @@ impl ContactStage {
         self.resting(bodies, settings, gravity, dt);
     }
 
-    /// After the integration: shifts the bodies to where the contact impulses put them.
-    pub fn finish(&mut self, bodies: &mut [RigidBody], dt: f64) {
+    /// After the integration: puts the bodies held by resting contacts where the substeps moved
+    /// them, and shifts the bodies by the collisions' corrections.
+    pub fn finish(&mut self, bodies: &mut [RigidBody]) {
         for (i, ((body, &(dx, dtheta)), held)) in bodies.iter_mut().zip(&self.shifts).zip(&self.held).enumerate() {
-            if let (Some(start), false) = (held, body.fixed) {
-                body.state.position = *start + body.state.velocity * dt;
-            }
-            if held.is_some() && dx == DVec3::ZERO && dtheta == DVec3::ZERO {
-                let after = body.kinetic_energy() + body.potential_energy(self.gravity);
-                self.energy.friction += self.energy_before[i] - after;
-            }
-            if body.fixed || (dx == DVec3::ZERO && dtheta == DVec3::ZERO) {
+            if body.fixed {
                 continue;
             }
-            body.state.position += dx;
-            body.state.orientation = (quat_exp(dtheta) * body.state.orientation).normalize();
+            if let Some((position, orientation)) = *held {
+                body.state.position = position;
+                body.state.orientation = orientation;
+            }
+            if dx != DVec3::ZERO || dtheta != DVec3::ZERO {
+                body.state.position += dx;
+                body.state.orientation = (quat_exp(dtheta) * body.state.orientation).normalize();
+            }
             if held.is_some() {
                 let after = body.kinetic_energy() + body.potential_energy(self.gravity);
                 self.energy.friction += self.energy_before[i] - after;
@@ -262,22 +280,30 @@ impl ContactStage {
         }
     }
 
-    /// Stage 2: resting contact by sequential impulses on the end-of-step velocities.
+    /// Stage 2: resting contact by soft sequential impulses in substeps (see [`solver`]).
     fn resting(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
-        // predicted end-of-step velocities under gravity and the constant world force
+        let substeps = settings.substeps.max(1);
+        let h = dt / substeps as f64;
+        let inv_h = 1.0 / h;
+        // the spring of the position bias: twice as stiff against a fixed body, which has no give of
+        // its own (Box2D v3), and never stiffer than a quarter of the substep rate (ω h ≤ π/2; a
+        // ground spring at twice that rate set a ten-box tower wandering)
+        let cap = 0.25 * inv_h;
+        let soft = solver::Softness::new(settings.hertz.min(cap), settings.damping_ratio, h);
+        let soft_fixed = solver::Softness::new((2.0 * settings.hertz).min(cap), settings.damping_ratio, h);
+
+        // the start-of-step velocities, and the acceleration of the constant world forces
         self.predicted.clear();
         for (b, sb) in bodies.iter().zip(self.bodies.iter_mut()) {
             if !b.fixed {
-                sb.v += (gravity + b.loads.force_world * b.mass.inv_mass) * dt;
+                sb.accel = gravity + b.loads.force_world * b.mass.inv_mass;
             }
-            sb.v_split = DVec3::ZERO;
-            sb.w_split = DVec3::ZERO;
             self.predicted.push((sb.v, sb.w));
         }
         self.constraints.clear();
-        self.warm_next.clear();
         for c in &self.contacts {
             let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
+            let softness = if bodies[c.a].fixed || bodies[c.b].fixed { soft_fixed } else { soft };
             let mut k = Constraint::new(
                 &self.bodies,
                 &self.positions,
@@ -287,71 +313,78 @@ impl ContactStage {
                 c.normal_world,
                 c.gap,
                 mu,
-                dt,
-                settings,
+                softness,
             );
-            if let Some(l) = self.warm.get(&(c.a, c.b, c.features.0, c.features.1)) {
-                // the previous normal impulse, and the friction impulse expressed in this step's tangents
-                k.lambda = *l;
-            } else if let Some(l) = nearest_previous(&self.previous, c) {
-                // parry renumbered the features (a clipped manifold changes its points): the
-                // previous impulse of the nearest point of the same pair, if it is close
+            if let Some(l) = previous_impulse(&self.previous, c) {
                 k.lambda = l;
             }
             self.constraints.push(k);
         }
+        // the bodies the constraints move
+        self.active.clear();
         for k in &self.constraints {
-            k.warm_start(&mut self.bodies);
-        }
-        // symmetric Gauss–Seidel: sweeps alternate direction, so that a correction at either end
-        // of a stack reaches the other end in one sweep
-        for it in 0..settings.iterations {
-            if it % 2 == 0 {
-                for k in self.constraints.iter_mut() {
-                    k.solve_velocity(&mut self.bodies);
-                }
-            } else {
-                for k in self.constraints.iter_mut().rev() {
-                    k.solve_velocity(&mut self.bodies);
+            for i in [k.a, k.b] {
+                if !bodies[i].fixed && !self.in_active[i] {
+                    self.in_active[i] = true;
+                    self.active.push(i);
                 }
             }
         }
-        for _ in 0..settings.iterations.div_ceil(2) {
-            for k in self.constraints.iter_mut() {
-                k.solve_position(&mut self.bodies);
+        // the soft step: per substep, forces, warm start, soft solve, move, relax
+        let (slop, max_push) = (settings.slop, settings.max_correction_speed);
+        for _ in 0..substeps {
+            for &i in &self.active {
+                self.bodies[i].integrate_velocity(h);
+            }
+            for k in &self.constraints {
+                k.warm_start(&mut self.bodies);
+            }
+            for _ in 0..settings.iterations {
+                for k in self.constraints.iter_mut() {
+                    k.solve(&mut self.bodies, solver::Pass::Solve, inv_h, slop, max_push);
+                }
+            }
+            for &i in &self.active {
+                self.bodies[i].integrate_position(h);
+            }
+            for _ in 0..settings.iterations {
+                for k in self.constraints.iter_mut() {
+                    k.solve(&mut self.bodies, solver::Pass::Relax, inv_h, slop, max_push);
+                }
             }
         }
         self.previous.clear();
         for (c, k) in self.contacts.iter().zip(&self.constraints) {
-            self.warm_next.insert((c.a, c.b, c.features.0, c.features.1), k.lambda);
-            self.previous.push((c.a, c.b, c.point_world, k.lambda));
+            self.previous.push(Previous {
+                a: c.a,
+                b: c.b,
+                features: c.features,
+                point_world: c.point_world,
+                lambda: k.lambda,
+            });
         }
-        self.previous.sort_unstable_by_key(|p| (p.0, p.1));
-        std::mem::swap(&mut self.warm, &mut self.warm_next);
-        // Δv applied at the start of the step, positions shifted by −½ Δv dt plus the split correction
-        for (i, b) in bodies.iter_mut().enumerate() {
-            if b.fixed {
-                continue;
-            }
+        // the contacts come grouped by pair, in pair order (`Colliders::find_contacts`); a stable
+        // sort keeps the order within a pair otherwise
+        if !self.previous.is_sorted_by_key(|p| (p.a, p.b)) {
+            self.previous.sort_by_key(|p| (p.a, p.b));
+        }
+        // a body the impulses reached: its velocity change goes in at the start of the step, so
+        // that the integration ends at the solver's velocity; its motion is the substeps' (`finish`)
+        for &i in &self.active {
+            self.in_active[i] = false;
             let sb = &self.bodies[i];
-            let (v_pred, w_pred) = self.predicted[i];
-            let (dv, dw) = (sb.v - v_pred, sb.w - w_pred);
-            if dv == DVec3::ZERO && dw == DVec3::ZERO && sb.v_split == DVec3::ZERO && sb.w_split == DVec3::ZERO {
+            if !sb.touched {
                 continue;
             }
+            let b = &mut bodies[i];
+            let (v0, w0) = self.predicted[i];
+            let (dv, dw) = (sb.v - (v0 + sb.accel * dt), sb.w - w0);
             // the mechanical energy before the contact impulses; `finish` counts what it lost
             self.energy_before[i] = b.kinetic_energy() + b.potential_energy(gravity);
             b.state.velocity += dv;
             let omega = b.state.omega_world() + dw;
             b.set_omega_world(omega);
-            // a body held by contacts moves by its end-of-step velocity, x ← x + v⁺ dt (symplectic
-            // Euler, whatever the integrator: a body at rest stays put and a speculative gap closes
-            // exactly); `finish` puts it there
-            if dv != DVec3::ZERO || dw != DVec3::ZERO {
-                self.held[i] = Some(b.state.position);
-            }
-            self.shifts[i].0 += sb.v_split * dt;
-            self.shifts[i].1 += sb.w_split * dt;
+            self.held[i] = Some((b.state.position + sb.dx, (sb.dq * b.state.orientation).normalize()));
         }
     }
 }
@@ -360,15 +393,21 @@ impl ContactStage {
 /// whose impulse it inherits when the feature ids do not match.
 const WARM_MATCH_DISTANCE: f64 = 0.02;
 
-/// The accumulated impulse of the previous step's point of the same pair nearest to `c`, if
-/// within [`WARM_MATCH_DISTANCE`].
-fn nearest_previous(previous: &[(usize, usize, DVec3, [f64; 3])], c: &Contact) -> Option<[f64; 3]> {
-    let start = previous.partition_point(|p| (p.0, p.1) < (c.a, c.b));
+/// The accumulated impulses a contact inherits from the previous step: those of the point of the
+/// same pair with the same features (the normal impulse, and the friction impulse taken as it is in
+/// this step's tangents), or else, when parry renumbered the features (a clipped manifold changes
+/// its points), those of the nearest point of the same pair within [`WARM_MATCH_DISTANCE`].
+fn previous_impulse(previous: &[Previous], c: &Contact) -> Option<[f64; 3]> {
+    let start = previous.partition_point(|p| (p.a, p.b) < (c.a, c.b));
+    let pair = previous[start..].iter().take_while(|p| (p.a, p.b) == (c.a, c.b));
     let mut best: Option<(f64, [f64; 3])> = None;
-    for p in previous[start..].iter().take_while(|p| (p.0, p.1) == (c.a, c.b)) {
-        let d = (p.2 - c.point_world).length_squared();
+    for p in pair {
+        if p.features == c.features {
+            return Some(p.lambda);
+        }
+        let d = (p.point_world - c.point_world).length_squared();
         if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
-            best = Some((d, p.3));
+            best = Some((d, p.lambda));
         }
     }
     best.map(|b| b.1)
@@ -409,7 +448,8 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
         ("friction", nonneg(s.friction), "must be finite and ≥ 0", s.friction),
         ("impact_speed", nonneg(s.impact_speed), "must be finite and ≥ 0 (m/s)", s.impact_speed),
         ("slop", nonneg(s.slop), "must be finite and ≥ 0 (m)", s.slop),
-        ("position_correction", unit(s.position_correction), "must be in [0, 1]", s.position_correction),
+        ("contact_hertz", nonneg(s.hertz), "must be finite and ≥ 0 (Hz)", s.hertz),
+        ("contact_damping_ratio", nonneg(s.damping_ratio), "must be finite and ≥ 0", s.damping_ratio),
         (
             "max_correction_speed",
             nonneg(s.max_correction_speed),
@@ -424,6 +464,9 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
     }
     if s.iterations == 0 || s.iterations > 10_000 {
         return Err(("contact_iterations", "must be in 1..=10000", s.iterations.to_string()));
+    }
+    if s.substeps == 0 || s.substeps > 10_000 {
+        return Err(("contact_substeps", "must be in 1..=10000", s.substeps.to_string()));
     }
     Ok(())
 }

@@ -1,38 +1,78 @@
-//! Resting contact: sequential impulses with warm starting and split-impulse position correction.
+//! Resting contact: soft sequential impulses in substeps, with warm starting and relaxation.
 //!
 //! References: E. Catto, "Iterative Dynamics with Temporal Coherence" (GDC 2005) and "Fast and
-//! Simple Physics using Sequential Impulses" (GDC 2006): accumulated impulses clamped to `λ_n ≥ 0`
-//! and to the friction disc `|λ_t| ≤ μ λ_n`, warm started from the previous step; the split impulse
-//! (Catto; Box2D v2.x "soft step" notes) corrects overlap with pseudo-velocities that move the
-//! bodies but are never added to their velocities, so correcting a penetration adds no energy.
+//! Simple Physics using Sequential Impulses" (GDC 2006) for sequential impulses, accumulated
+//! impulses clamped to `λ_n ≥ 0` and to the friction disc `|λ_t| ≤ μ λ_n`, and warm starting;
+//! E. Catto, "Solver2D" (2024) and Box2D v3 for the *soft step*: the step is cut into substeps
+//! `h = dt/n`, each one applying the external forces, solving the contacts with a soft
+//! (spring–damper) position bias, moving the bodies, then *relaxing* (solving again without the
+//! bias, so the bias adds no energy to the motion).
 //!
 //! Each constraint is a contact point with normal `n` (A → B) and tangents `t1, t2`. The
 //! relative velocity at the point is `u = (v_b + ω_b × r_b) − (v_a + ω_a × r_a)`, world frame.
-//! - normal: `u·n ≥ −max(gap, 0)/dt` (a speculative contact lets the bodies close an open gap,
-//!   no more), `λ_n ≥ 0`; effective mass `m_n = 1/(nᵀ K n)`;
+//! - separation at the current substep: `s = gap + n·[(Δx_b + ΔR_b r_b − r_b) − (Δx_a + ΔR_a r_a − r_a)]`,
+//!   with `Δx`, `ΔR` each body's motion since the start of the step;
+//! - normal, `λ_n ≥ 0`, effective mass `m_n = 1/(nᵀ K n)`:
+//!   - open (`s > 0`): `u·n ≥ −s/h`, the bodies may close the gap in this substep, no more
+//!     (a speculative contact);
+//!   - touching, with bias: the soft constraint `Δλ = −m_n s_m (u·n + b) − s_i λ_n` with the bias
+//!     `b = max(β_s min(s + slop, 0), −v_max)` and the softness `(β_s, s_m, s_i)` of a damped
+//!     spring of frequency `f` and damping ratio `ζ` (below);
+//!   - touching, relaxing: the rigid `u·n ≥ 0`;
 //! - friction: the tangential velocity `u_t = (u·t1, u·t2)` is driven to zero by `Δλ_t = −K_tt⁻¹ u_t`
-//!   (the 2×2 block, so friction is isotropic), then `λ_t` is clamped to the disc of radius `μ λ_n`;
-//! - position: a pseudo-velocity `u'·n ≥ β max(−gap − slop, 0)/dt`, at most `max_correction_speed`.
+//!   (the 2×2 block, so friction is isotropic), then `λ_t` is put back in the disc `|λ_t| ≤ μ λ_n`
+//!   at the point nearest in the metric of `K_tt` (friction opposes the slip).
 //!
-//! Velocities are those predicted at the end of the step (external forces applied); the solver
-//! returns the change of every body's velocity, which the contact stage applies through the step.
+//! Softness of a spring–damper of angular frequency `ω = 2π f` and damping ratio `ζ` discretised
+//! implicitly over the substep `h`: `a₁ = 2ζ + hω`, `a₂ = hω a₁`, `a₃ = 1/(1 + a₂)`, bias rate
+//! `β_s = ω/a₁`, mass scale `s_m = a₂ a₃`, impulse scale `s_i = a₃`.
 
 use super::impact::tangent_basis;
-use crate::math::{DMat3, DVec3};
+use crate::math::{quat_exp, DMat3, DQuat, DVec3};
+
+/// The softness of a contact: a damped spring that pushes overlapping bodies apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Softness {
+    /// `β_s` (1/s): the bias speed per metre of overlap.
+    pub bias_rate: f64,
+    /// `s_m`: the fraction of the rigid impulse applied.
+    pub mass_scale: f64,
+    /// `s_i`: the fraction of the accumulated impulse taken back (the spring's give).
+    pub impulse_scale: f64,
+}
+
+impl Softness {
+    /// A spring of `hertz` (Hz) and damping ratio `zeta` over the substep `h` (s); `hertz = 0`
+    /// is rigid without bias.
+    pub fn new(hertz: f64, zeta: f64, h: f64) -> Self {
+        if hertz <= 0.0 {
+            return Self { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 };
+        }
+        let omega = 2.0 * std::f64::consts::PI * hertz;
+        let a1 = 2.0 * zeta + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Self { bias_rate: omega / a1, mass_scale: a2 * a3, impulse_scale: a3 }
+    }
+}
 
 /// One resting-contact constraint (world frame throughout).
 #[derive(Debug, Clone, Copy)]
 pub struct Constraint {
     pub a: usize,
     pub b: usize,
-    /// Offsets of the contact point from the centres of mass of A and B (m).
+    /// Offsets of the contact point from the centres of mass of A and B at the start of the step (m).
     pub r_a: DVec3,
     pub r_b: DVec3,
     pub n: DVec3,
     pub t1: DVec3,
     pub t2: DVec3,
+    /// `gap − n·(r_b − r_a)`: the separation is this plus `n·(p_b − p_a)` with `p` the moved offsets (m).
+    pub adjusted_gap: f64,
     /// `1/(nᵀKn)` (kg).
     pub normal_mass: f64,
+    /// `K n` (1/kg): the change of the relative velocity per unit normal impulse.
+    pub k_n: DVec3,
     /// `K_tt⁻¹` as `[[a, b], [c, d]]` (kg).
     pub tangent_mass: [f64; 4],
     /// `K_tt` as `[k11, k12, k22]` (1/kg).
@@ -42,25 +82,27 @@ pub struct Constraint {
     pub ang_a: [DVec3; 3],
     pub ang_b: [DVec3; 3],
     pub mu: f64,
-    /// Allowed approach speed `max(gap, 0)/dt` (m/s).
-    pub speculative: f64,
-    /// Target separation pseudo-speed of the position correction (m/s).
-    pub bias: f64,
-    /// Accumulated impulses `λ_n`, `λ_t1`, `λ_t2` (N·s) and the position impulse.
+    /// The spring that pushes the bodies apart when they overlap.
+    pub softness: Softness,
+    /// Accumulated impulses of a substep, `λ_n`, `λ_t1`, `λ_t2` (N·s).
     pub lambda: [f64; 3],
-    pub lambda_split: f64,
 }
 
 /// Per-body quantities of the solve: inverse mass (1/kg), world inverse inertia (1/(kg·m²)),
-/// velocity (m/s) and angular velocity (rad/s), and the pseudo-velocities of the split impulse.
+/// velocity (m/s), angular velocity (rad/s), the acceleration of the external forces (m/s²), and
+/// the motion since the start of the step: displacement `Δx` (m) and rotation `ΔR`.
 #[derive(Debug, Clone, Copy)]
 pub struct SolverBody {
     pub inv_mass: f64,
     pub inv_inertia: DMat3,
     pub v: DVec3,
     pub w: DVec3,
-    pub v_split: DVec3,
-    pub w_split: DVec3,
+    pub accel: DVec3,
+    pub dx: DVec3,
+    pub dq: DQuat,
+    pub drot: DMat3,
+    /// Whether any impulse reached this body in the step.
+    pub touched: bool,
 }
 
 impl SolverBody {
@@ -71,18 +113,48 @@ impl SolverBody {
         inv_inertia: DMat3::ZERO,
         v: DVec3::ZERO,
         w: DVec3::ZERO,
-        v_split: DVec3::ZERO,
-        w_split: DVec3::ZERO,
+        accel: DVec3::ZERO,
+        dx: DVec3::ZERO,
+        dq: DQuat::IDENTITY,
+        drot: DMat3::IDENTITY,
+        touched: false,
     };
 
     #[inline]
     fn point_velocity(&self, r: DVec3) -> DVec3 {
         self.v + self.w.cross(r)
     }
+
+    /// Semi-implicit Euler over the substep `h`: the velocity first (external forces), ...
+    #[inline]
+    pub fn integrate_velocity(&mut self, h: f64) {
+        self.v += h * self.accel;
+    }
+
+    /// ... then the position and rotation with the new velocities: `Δx ← Δx + h v`,
+    /// `ΔR ← exp(h ω̃) ΔR`.
+    #[inline]
+    pub fn integrate_position(&mut self, h: f64) {
+        self.dx += h * self.v;
+        if self.w != DVec3::ZERO {
+            self.dq = (quat_exp(h * self.w) * self.dq).normalize();
+            self.drot = DMat3::from_quat(self.dq);
+        }
+    }
+}
+
+/// What a pass over the constraints does at points in touch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pass {
+    /// The soft constraint with the position bias.
+    Solve,
+    /// The rigid constraint without bias (removes the bias's velocity).
+    Relax,
 }
 
 impl Constraint {
-    /// A constraint at `point` (m) with unit normal `n` between bodies `a` and `b`.
+    /// A constraint at `point` (m) with unit normal `n` between bodies `a` and `b`, signed
+    /// distance `gap` (m, negative when overlapping).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         bodies: &[SolverBody],
@@ -93,8 +165,7 @@ impl Constraint {
         n: DVec3,
         gap: f64,
         mu: f64,
-        dt: f64,
-        settings: &super::ContactSettings,
+        softness: Softness,
     ) -> Self {
         let (ba, bb) = (&bodies[a], &bodies[b]);
         let (r_a, r_b) = (point - positions[a], point - positions[b]);
@@ -104,7 +175,6 @@ impl Constraint {
         let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
         let det = k11 * k22 - k12 * k12;
         let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
-        let penetration = (-gap - settings.slop).max(0.0);
         Self {
             a,
             b,
@@ -113,16 +183,16 @@ impl Constraint {
             n,
             t1,
             t2,
+            adjusted_gap: gap - n.dot(r_b - r_a),
             normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
+            k_n: k * n,
             tangent_mass,
             tangent_k: [k11, k12, k22],
             ang_a: [n, t1, t2].map(|d| ba.inv_inertia * r_a.cross(d)),
             ang_b: [n, t1, t2].map(|d| bb.inv_inertia * r_b.cross(d)),
             mu,
-            speculative: gap.max(0.0) / dt,
-            bias: (settings.position_correction * penetration / dt).min(settings.max_correction_speed),
+            softness,
             lambda: [0.0; 3],
-            lambda_split: 0.0,
         }
     }
 
@@ -130,6 +200,15 @@ impl Constraint {
     #[inline]
     fn relative_velocity(&self, bodies: &[SolverBody]) -> DVec3 {
         bodies[self.b].point_velocity(self.r_b) - bodies[self.a].point_velocity(self.r_a)
+    }
+
+    /// The separation at the current substep (m), from the bodies' motion since the step began.
+    #[inline]
+    fn separation(&self, bodies: &[SolverBody]) -> f64 {
+        let (ba, bb) = (&bodies[self.a], &bodies[self.b]);
+        let p_a = ba.dx + ba.drot * self.r_a;
+        let p_b = bb.dx + bb.drot * self.r_b;
+        self.adjusted_gap + self.n.dot(p_b - p_a)
     }
 
     /// Applies the impulse `dn n + d1 t1 + d2 t2` on B and its opposite on A, with the angular
@@ -145,21 +224,45 @@ impl Constraint {
         b.w += dn * self.ang_b[0] + d1 * self.ang_b[1] + d2 * self.ang_b[2];
     }
 
-    /// Applies the accumulated impulses of the previous step (warm start).
+    /// Applies the accumulated impulses (warm start of a substep).
     pub fn warm_start(&self, bodies: &mut [SolverBody]) {
-        self.apply(bodies, self.lambda[0], self.lambda[1], self.lambda[2]);
+        if self.lambda != [0.0; 3] {
+            self.apply(bodies, self.lambda[0], self.lambda[1], self.lambda[2]);
+            bodies[self.a].touched = true;
+            bodies[self.b].touched = true;
+        }
     }
 
-    /// One Gauss–Seidel pass over this constraint: friction (with the current normal impulse as
-    /// the disc's radius), then the normal.
-    pub fn solve_velocity(&mut self, bodies: &mut [SolverBody]) {
+    /// One Gauss–Seidel pass over this constraint: the normal, then friction with the new normal
+    /// impulse as the disc's radius. `inv_h` is `1/h` (1/s), `slop` the overlap left alone (m) and
+    /// `max_push` the largest bias speed (m/s).
+    #[inline]
+    pub fn solve(&mut self, bodies: &mut [SolverBody], pass: Pass, inv_h: f64, slop: f64, max_push: f64) {
+        // normal
+        let s = self.separation(bodies);
+        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+            (s * inv_h, 1.0, 0.0)
+        } else if pass == Pass::Solve {
+            let k = self.softness;
+            ((k.bias_rate * (s + slop).min(0.0)).max(-max_push), k.mass_scale, k.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        let u = self.relative_velocity(bodies);
+        let un = u.dot(self.n);
+        let new =
+            (self.lambda[0] - self.normal_mass * mass_scale * (un + bias) - impulse_scale * self.lambda[0]).max(0.0);
+        let dn = new - self.lambda[0];
+        self.lambda[0] = new;
+
         // friction: sticking if λ* = λ_t − K_tt⁻¹ u_t lies in the disc |λ_t| ≤ μ λ_n; otherwise
         // sliding, with λ_t the point of the disc nearest λ* in the metric of K_tt. That point makes
         // the resulting slip u = K_tt (λ_t − λ*) normal to the disc, i.e. friction opposes the slip
         // (maximum dissipation), which the plain Euclidean clamp would not do when K_tt is not
         // isotropic. λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*, with ν ≥ 0 the root of the secular equation
         // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from ν = 0).
-        let u = self.relative_velocity(bodies);
+        // the relative velocity after the normal impulse, u + Δλ_n K n (applied with friction's, once)
+        let u = u + dn * self.k_n;
         let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
         let m = self.tangent_mass;
         let (mut l1, mut l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
@@ -167,26 +270,7 @@ impl Constraint {
         let len = (l1 * l1 + l2 * l2).sqrt();
         if len > limit {
             if limit > 0.0 {
-                let [k11, k12, k22] = self.tangent_k;
-                let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
-                let mut nu = 0.0;
-                for _ in 0..8 {
-                    let (a11, a22) = (k11 + nu, k22 + nu);
-                    let det = a11 * a22 - k12 * k12;
-                    let (x1, x2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
-                    let norm = (x1 * x1 + x2 * x2).sqrt();
-                    // λᵀ (K + ν)⁻¹ λ
-                    let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
-                    let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
-                    let phi = 1.0 / norm - 1.0 / limit;
-                    if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 / limit {
-                        break;
-                    }
-                    nu = (nu - phi / slope).max(0.0);
-                }
-                let (a11, a22) = (k11 + nu, k22 + nu);
-                let det = a11 * a22 - k12 * k12;
-                (l1, l2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
+                (l1, l2) = project_on_disc(self.tangent_k, l1, l2, limit);
             }
             // round-off of the root: land exactly on the disc
             let len = (l1 * l1 + l2 * l2).sqrt();
@@ -197,31 +281,35 @@ impl Constraint {
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
         self.lambda[1] = l1;
         self.lambda[2] = l2;
-        self.apply(bodies, 0.0, d1, d2);
-
-        // normal: u·n ≥ −speculative, λ_n ≥ 0
-        let un = self.relative_velocity(bodies).dot(self.n);
-        let new = (self.lambda[0] - self.normal_mass * (un + self.speculative)).max(0.0);
-        let dl = new - self.lambda[0];
-        self.lambda[0] = new;
-        self.apply(bodies, dl, 0.0, 0.0);
-    }
-
-    /// One pass of the split-impulse position correction on the pseudo-velocities.
-    pub fn solve_position(&mut self, bodies: &mut [SolverBody]) {
-        if self.bias == 0.0 && self.lambda_split == 0.0 {
-            return;
+        self.apply(bodies, dn, d1, d2);
+        if self.lambda != [0.0; 3] {
+            bodies[self.a].touched = true;
+            bodies[self.b].touched = true;
         }
-        let (ba, bb) = (&bodies[self.a], &bodies[self.b]);
-        let u = (bb.v_split + bb.w_split.cross(self.r_b)) - (ba.v_split + ba.w_split.cross(self.r_a));
-        let new = (self.lambda_split + self.normal_mass * (self.bias - u.dot(self.n))).max(0.0);
-        let dl = new - self.lambda_split;
-        self.lambda_split = new;
-        let a = &mut bodies[self.a];
-        a.v_split -= (dl * a.inv_mass) * self.n;
-        a.w_split -= dl * self.ang_a[0];
-        let b = &mut bodies[self.b];
-        b.v_split += (dl * b.inv_mass) * self.n;
-        b.w_split += dl * self.ang_b[0];
     }
+}
+
+/// The point of the disc `|λ| ≤ limit` nearest `λ* = (l1, l2)` in the metric of `K_tt = [k11 k12; k12 k22]`:
+/// `λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*` with `ν ≥ 0` the root of `1/|λ(ν)| = 1/limit` by Newton's method
+/// (Moré & Sorensen 1983).
+fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
+    let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
+    let mut nu = 0.0;
+    for _ in 0..8 {
+        let (a11, a22) = (k11 + nu, k22 + nu);
+        let det = a11 * a22 - k12 * k12;
+        let (x1, x2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
+        let norm = (x1 * x1 + x2 * x2).sqrt();
+        // λᵀ (K + ν)⁻¹ λ
+        let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
+        let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
+        let phi = 1.0 / norm - 1.0 / limit;
+        if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 / limit {
+            break;
+        }
+        nu = (nu - phi / slope).max(0.0);
+    }
+    let (a11, a22) = (k11 + nu, k22 + nu);
+    let det = a11 * a22 - k12 * k12;
+    ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det)
 }

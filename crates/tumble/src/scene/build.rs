@@ -197,7 +197,9 @@ fn world_config(
             "friction" => span(w.friction.as_ref().and_then(|l| l.span.clone())),
             "impact_speed" => span(w.impact_speed.as_ref().and_then(|l| l.span.clone())),
             "slop" => span(w.contact_slop.as_ref().and_then(|l| l.span.clone())),
-            "position_correction" => span(w.position_correction.as_ref().and_then(|l| l.span.clone())),
+            "contact_hertz" => span(w.contact_hertz.as_ref().and_then(|l| l.span.clone())),
+            "contact_damping_ratio" => span(w.contact_damping_ratio.as_ref().and_then(|l| l.span.clone())),
+            "contact_substeps" => span(w.contact_substeps.as_ref().and_then(|l| l.span.clone())),
             "max_correction_speed" => span(w.max_correction_speed.as_ref().and_then(|l| l.span.clone())),
             "contact_iterations" => span(w.contact_iterations.as_ref().and_then(|l| l.span.clone())),
             _ => table.span.clone(),
@@ -232,7 +234,8 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
         ("friction", &w.friction, &mut c.friction),
         ("impact_speed", &w.impact_speed, &mut c.impact_speed),
         ("contact_slop", &w.contact_slop, &mut c.slop),
-        ("position_correction", &w.position_correction, &mut c.position_correction),
+        ("contact_hertz", &w.contact_hertz, &mut c.hertz),
+        ("contact_damping_ratio", &w.contact_damping_ratio, &mut c.damping_ratio),
         ("max_correction_speed", &w.max_correction_speed, &mut c.max_correction_speed),
     ];
     for (key, loc, target) in scalars {
@@ -242,6 +245,9 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
     }
     if let Some(l) = &w.contact_iterations {
         c.iterations = l.value;
+    }
+    if let Some(l) = &w.contact_substeps {
+        c.substeps = l.value;
     }
     if let Some(l) = &w.restitution_law {
         c.law = RestitutionLaw::from_name(&l.value).ok_or_else(|| {

@@ -141,12 +141,16 @@ pub struct WorldDoc {
     pub restitution_law: Option<Loc<String>>,
     /// m/s: approach speed above which a contact is a collision.
     pub impact_speed: Option<Loc<f64>>,
-    /// Velocity iterations of the resting-contact solver.
+    /// Solver passes per substep of the resting-contact solver.
     pub contact_iterations: Option<Loc<u32>>,
+    /// Substeps of the resting-contact solver per step.
+    pub contact_substeps: Option<Loc<u32>>,
     /// m: overlap left uncorrected.
     pub contact_slop: Option<Loc<f64>>,
-    /// Fraction of the overlap corrected per step, [0, 1].
-    pub position_correction: Option<Loc<f64>>,
+    /// Hz: frequency of the spring that removes overlap.
+    pub contact_hertz: Option<Loc<f64>>,
+    /// Damping ratio of that spring.
+    pub contact_damping_ratio: Option<Loc<f64>>,
     /// m/s: largest speed of the overlap correction.
     pub max_correction_speed: Option<Loc<f64>>,
 }

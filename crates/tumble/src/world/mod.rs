@@ -189,7 +189,7 @@ impl World {
             return Err(diverged);
         }
         if contacts {
-            self.contact.finish(&mut self.bodies, self.config.dt);
+            self.contact.finish(&mut self.bodies);
         }
         self.steps += 1;
         Ok(())
