@@ -114,6 +114,8 @@ pub struct ContactStage {
     positions: Vec<DVec3>,
     predicted: Vec<(DVec3, DVec3)>,
     constraints: Vec<Constraint>,
+    /// The constraints of each pair of bodies, as ranges of `constraints`.
+    groups: Vec<(usize, usize)>,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
     shifts: Vec<(DVec3, DVec3)>,
     /// Where the substeps of the resting-contact solver moved each body they held: position (m)
@@ -332,24 +334,35 @@ impl ContactStage {
         }
         // the soft step: per substep, forces, warm start, soft solve, move, relax
         let (slop, max_push) = (settings.slop, settings.max_correction_speed);
+        // the constraints come grouped by pair of bodies (`Colliders::find_contacts`): each group
+        // is solved with its two bodies' velocities held locally
+        self.groups.clear();
+        let mut start = 0;
+        for (i, k) in self.constraints.iter().enumerate() {
+            let next = self.constraints.get(i + 1);
+            if next.is_none_or(|n| (n.a, n.b) != (k.a, k.b)) {
+                self.groups.push((start, i + 1));
+                start = i + 1;
+            }
+        }
+        let constraints = &mut self.constraints;
         for _ in 0..substeps {
             for &i in &self.active {
                 self.bodies[i].integrate_velocity(h);
             }
-            for k in &self.constraints {
-                k.warm_start(&mut self.bodies);
+            for &(s, e) in &self.groups {
+                solver::warm_start_pair(&constraints[s..e], &mut self.bodies);
             }
-            for _ in 0..settings.iterations {
-                for k in self.constraints.iter_mut() {
-                    k.solve(&mut self.bodies, solver::Pass::Solve, inv_h, slop, max_push);
+            for pass in [solver::Pass::Solve, solver::Pass::Relax] {
+                if pass == solver::Pass::Relax {
+                    for &i in &self.active {
+                        self.bodies[i].integrate_position(h);
+                    }
                 }
-            }
-            for &i in &self.active {
-                self.bodies[i].integrate_position(h);
-            }
-            for _ in 0..settings.iterations {
-                for k in self.constraints.iter_mut() {
-                    k.solve(&mut self.bodies, solver::Pass::Relax, inv_h, slop, max_push);
+                for _ in 0..settings.iterations {
+                    for &(s, e) in &self.groups {
+                        solver::solve_pair(&mut constraints[s..e], &mut self.bodies, pass, inv_h, slop, max_push);
+                    }
                 }
             }
         }

@@ -120,11 +120,6 @@ impl SolverBody {
         touched: false,
     };
 
-    #[inline]
-    fn point_velocity(&self, r: DVec3) -> DVec3 {
-        self.v + self.w.cross(r)
-    }
-
     /// Semi-implicit Euler over the substep `h`: the velocity first (external forces), ...
     #[inline]
     pub fn integrate_velocity(&mut self, h: f64) {
@@ -140,6 +135,77 @@ impl SolverBody {
             self.dq = (quat_exp(h * self.w) * self.dq).normalize();
             self.drot = DMat3::from_quat(self.dq);
         }
+    }
+}
+
+/// A body's velocities and motion since the start of the step, copied out of [`SolverBody`] while
+/// the constraints of one pair of bodies are solved (kept in registers, written back once).
+#[derive(Debug, Clone, Copy)]
+pub struct Motion {
+    pub inv_mass: f64,
+    pub v: DVec3,
+    pub w: DVec3,
+    pub dx: DVec3,
+    pub drot: DMat3,
+}
+
+impl Motion {
+    #[inline]
+    fn of(b: &SolverBody) -> Self {
+        Self { inv_mass: b.inv_mass, v: b.v, w: b.w, dx: b.dx, drot: b.drot }
+    }
+
+    #[inline]
+    fn point_velocity(&self, r: DVec3) -> DVec3 {
+        self.v + self.w.cross(r)
+    }
+}
+
+/// Solves the constraints of one pair of bodies, all with the same `a` and `b` (one Gauss–Seidel
+/// pass; see [`Constraint::solve`]).
+#[inline]
+pub fn solve_pair(
+    constraints: &mut [Constraint],
+    bodies: &mut [SolverBody],
+    pass: Pass,
+    inv_h: f64,
+    slop: f64,
+    max_push: f64,
+) {
+    let Some(first) = constraints.first() else { return };
+    let (a, b) = (first.a, first.b);
+    let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
+    let mut any = false;
+    for k in constraints.iter_mut() {
+        debug_assert!(k.a == a && k.b == b);
+        any |= k.solve(&mut ma, &mut mb, pass, inv_h, slop, max_push);
+    }
+    for (i, m) in [(a, ma), (b, mb)] {
+        let body = &mut bodies[i];
+        body.v = m.v;
+        body.w = m.w;
+        body.touched |= any;
+    }
+}
+
+/// Applies the accumulated impulses of the constraints of one pair of bodies (warm start).
+#[inline]
+pub fn warm_start_pair(constraints: &[Constraint], bodies: &mut [SolverBody]) {
+    let Some(first) = constraints.first() else { return };
+    let (a, b) = (first.a, first.b);
+    let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
+    let mut any = false;
+    for k in constraints {
+        if k.lambda != [0.0; 3] {
+            k.apply(&mut ma, &mut mb, k.lambda[0], k.lambda[1], k.lambda[2]);
+            any = true;
+        }
+    }
+    for (i, m) in [(a, ma), (b, mb)] {
+        let body = &mut bodies[i];
+        body.v = m.v;
+        body.w = m.w;
+        body.touched |= any;
     }
 }
 
@@ -196,50 +262,40 @@ impl Constraint {
         }
     }
 
-    /// The relative velocity at the contact point, `u = u_b − u_a` (m/s).
-    #[inline]
-    fn relative_velocity(&self, bodies: &[SolverBody]) -> DVec3 {
-        bodies[self.b].point_velocity(self.r_b) - bodies[self.a].point_velocity(self.r_a)
-    }
-
     /// The separation at the current substep (m), from the bodies' motion since the step began.
     #[inline]
-    fn separation(&self, bodies: &[SolverBody]) -> f64 {
-        let (ba, bb) = (&bodies[self.a], &bodies[self.b]);
-        let p_a = ba.dx + ba.drot * self.r_a;
-        let p_b = bb.dx + bb.drot * self.r_b;
+    fn separation(&self, ma: &Motion, mb: &Motion) -> f64 {
+        let p_a = ma.dx + ma.drot * self.r_a;
+        let p_b = mb.dx + mb.drot * self.r_b;
         self.adjusted_gap + self.n.dot(p_b - p_a)
     }
 
     /// Applies the impulse `dn n + d1 t1 + d2 t2` on B and its opposite on A, with the angular
     /// responses `I⁻¹ (r × d)` computed once per step (no 3×3 product inside the sweeps).
     #[inline]
-    fn apply(&self, bodies: &mut [SolverBody], dn: f64, d1: f64, d2: f64) {
+    fn apply(&self, ma: &mut Motion, mb: &mut Motion, dn: f64, d1: f64, d2: f64) {
         let p = dn * self.n + d1 * self.t1 + d2 * self.t2;
-        let a = &mut bodies[self.a];
-        a.v -= a.inv_mass * p;
-        a.w -= dn * self.ang_a[0] + d1 * self.ang_a[1] + d2 * self.ang_a[2];
-        let b = &mut bodies[self.b];
-        b.v += b.inv_mass * p;
-        b.w += dn * self.ang_b[0] + d1 * self.ang_b[1] + d2 * self.ang_b[2];
-    }
-
-    /// Applies the accumulated impulses (warm start of a substep).
-    pub fn warm_start(&self, bodies: &mut [SolverBody]) {
-        if self.lambda != [0.0; 3] {
-            self.apply(bodies, self.lambda[0], self.lambda[1], self.lambda[2]);
-            bodies[self.a].touched = true;
-            bodies[self.b].touched = true;
-        }
+        ma.v -= ma.inv_mass * p;
+        ma.w -= dn * self.ang_a[0] + d1 * self.ang_a[1] + d2 * self.ang_a[2];
+        mb.v += mb.inv_mass * p;
+        mb.w += dn * self.ang_b[0] + d1 * self.ang_b[1] + d2 * self.ang_b[2];
     }
 
     /// One Gauss–Seidel pass over this constraint: the normal, then friction with the new normal
     /// impulse as the disc's radius. `inv_h` is `1/h` (1/s), `slop` the overlap left alone (m) and
-    /// `max_push` the largest bias speed (m/s).
+    /// `max_push` the largest bias speed (m/s). Whether an impulse is held.
     #[inline]
-    pub fn solve(&mut self, bodies: &mut [SolverBody], pass: Pass, inv_h: f64, slop: f64, max_push: f64) {
+    pub fn solve(
+        &mut self,
+        ma: &mut Motion,
+        mb: &mut Motion,
+        pass: Pass,
+        inv_h: f64,
+        slop: f64,
+        max_push: f64,
+    ) -> bool {
         // normal
-        let s = self.separation(bodies);
+        let s = self.separation(ma, mb);
         let (bias, mass_scale, impulse_scale) = if s > 0.0 {
             (s * inv_h, 1.0, 0.0)
         } else if pass == Pass::Solve {
@@ -248,7 +304,7 @@ impl Constraint {
         } else {
             (0.0, 1.0, 0.0)
         };
-        let u = self.relative_velocity(bodies);
+        let u = mb.point_velocity(self.r_b) - ma.point_velocity(self.r_a);
         let un = u.dot(self.n);
         let new =
             (self.lambda[0] - self.normal_mass * mass_scale * (un + bias) - impulse_scale * self.lambda[0]).max(0.0);
@@ -281,11 +337,8 @@ impl Constraint {
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
         self.lambda[1] = l1;
         self.lambda[2] = l2;
-        self.apply(bodies, dn, d1, d2);
-        if self.lambda != [0.0; 3] {
-            bodies[self.a].touched = true;
-            bodies[self.b].touched = true;
-        }
+        self.apply(ma, mb, dn, d1, d2);
+        self.lambda != [0.0; 3]
     }
 }
 
