@@ -11,15 +11,16 @@
 //!    with the new velocity after it would be. Contacts are swept one at a time, again and again,
 //!    until none approaches (Mirtich's sequential view): momentum travels down a chain of touching
 //!    bodies as in a Newton's cradle.
-//! 2. **Resting contact** ([`solver`], Catto 2005/2006): every contact, with the velocities the
-//!    bodies would have at the end of the step under gravity and their constant world forces, is
-//!    solved by sequential impulses with warm starting; the velocity change `Δv` is applied at the
-//!    start of the step, and a body so held moves by its end-of-step velocity, `x ← x + v⁺ dt`
-//!    (symplectic Euler, as Box2D, whatever the integrator: a body at rest on the ground does not
-//!    move at all, a speculative gap closes exactly). The
-//!    split impulse's pseudo-velocities move overlapping bodies apart without adding energy.
+//! 2. **Resting contact** ([`solver`], Catto 2005/2006, the soft step of Box2D v3): every contact is
+//!    solved by sequential impulses with warm starting in [`ContactSettings::substeps`] substeps,
+//!    each one adding the external forces, solving with a soft spring that pushes overlapping bodies
+//!    apart, moving the bodies, and relaxing (solving again without the spring's bias, which so adds
+//!    no energy). A body the impulses reached ends the step where the substeps moved it; its
+//!    velocity change is applied at the start of the step, so that the free-body integration ends
+//!    at the solver's velocity.
 //!
-//! After the integration, [`ContactStage::finish`] applies the position and rotation shifts.
+//! After the integration, [`ContactStage::finish`] puts the held bodies where the substeps moved them
+//! and applies the collisions' position and rotation shifts.
 //!
 //! Material combine rules for a pair: friction `μ = √(μ_a μ_b)` (geometric mean), restitution
 //! `e = max(e_a, e_b)`; a body without a value takes the world's default. When both bodies give the
