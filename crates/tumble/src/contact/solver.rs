@@ -323,8 +323,8 @@ impl Constraint {
         let m = self.tangent_mass;
         let (mut l1, mut l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
         let limit = self.mu * self.lambda[0];
-        let len = (l1 * l1 + l2 * l2).sqrt();
-        if len > limit {
+        // squared lengths: no square root on the way of the common case (sticking)
+        if l1 * l1 + l2 * l2 > limit * limit {
             if limit > 0.0 {
                 (l1, l2) = project_on_disc(self.tangent_k, l1, l2, limit);
             }
