@@ -14,7 +14,7 @@
 //!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
 //!   `convex_hull {vertices, triangles}`. A body without a shape gets its inertia-equivalent box
 //!   (`inertia_box: true`).
-//! - Robots ([`robots`]): every link is a body named `robot/link`, with `robot` its robot's name and
+//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's name and
 //!   `marker` whether it is drawn as a small sphere; the legend lists the links by robot. A moving
 //!   link's `index` is its trajectory row, which holds the **link frame's** pose (origin and
 //!   `world_from_link`, not the centre of mass): its one part is its inertia-equivalent box
@@ -22,7 +22,7 @@
 //!   frame, or, for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`). The
 //!   links fixed to the world (a fixed base) are fixed bodies (`index: null`), drawn the same way.
 //! - `times` (s) and `frames`: per frame, `x, y, z, qw, qx, qy, qz` of every moving body in order
-//!   (world frame, m; orientation `world_from_user`);
+//!   (world frame, m; orientation `world_from_user`, for a robot link `world_from_link`);
 //! - `energy`: `{label, values}`, the relative energy error per frame (or `null`) of the whole
 //!   system: the moving bodies and the robots' links (kinetic plus gravitational potential, the
 //!   energy of the run summary; see `tumble::trajectory::derived`). For a robot driven by PD control
@@ -40,14 +40,14 @@ use crate::error::{Failure, Status};
 use crate::plot::{read_trajectory, truncation_note, write_output};
 use std::fmt::Write as _;
 use std::path::Path;
-
-mod robots;
 use tumble::body::Shape;
 use tumble::math::quat_to_wxyz;
 use tumble::scene;
 use tumble::trajectory::derived::{self, InvariantErrors};
 use tumble::trajectory::Trajectory;
 use tumble::{RigidBody, World};
+
+mod robots;
 
 /// The page, with its data marker.
 const TEMPLATE: &str = include_str!("../assets/viewer.html");
