@@ -247,7 +247,7 @@ fn panels(
         let what = if world.robots.is_empty() { "moving bodies" } else { "moving bodies and robot links" };
         let e0 = invariants.first().map_or(0.0, |i| i.energy);
         panels.push(Panel {
-            title: format!("{e_title}, {what}, E₀ = {} J", short(e0)),
+            title: format!("{e_title}, {what}, E₀ = {} J{}", short(e0), driven_note(world)),
             y_label: e_label.into(),
             series: vec![("energy".into(), X_COLOR, series(errors.energy))],
             scientific: true,
@@ -322,6 +322,20 @@ fn panels(
         });
     }
     Ok(panels)
+}
+
+/// A note for energy titles when a robot is driven (torques, damping or PD gains): its energy is not
+/// conserved, and the change is their work, not an integration error. Empty otherwise.
+pub fn driven_note(world: &World) -> &'static str {
+    let driven = world.robots.iter().any(|r| {
+        let c = &r.control;
+        c.tau.iter().chain(&c.damping).chain(&c.kp).chain(&c.kd).any(|x| *x != 0.0)
+    });
+    if driven {
+        " (robots under control or damping: the change includes their work)"
+    } else {
+        ""
+    }
 }
 
 /// Draws the figure and returns the file's bytes.

@@ -199,7 +199,7 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
         format!("energy error E − E₀ (J){what}, E₀ = 0")
     } else {
         format!("relative energy error (E − E₀)/|E₀|{what}, E₀ = {} J", crate::plot::short(e0))
-    };
+    } + crate::plot::driven_note(world);
     let _ = write!(out, "\"energy\":{{\"label\":{},\"values\":[", json_string(&label));
     push_joined(&mut out, errors.energy.iter().copied());
     out.push_str("]}}");

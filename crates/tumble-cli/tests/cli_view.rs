@@ -288,7 +288,8 @@ fn robot_links_are_drawn_as_inertia_boxes_at_their_centres_of_mass() {
     eprintln!("double pendulum: largest energy error shown {shown:e}, in the summary {summary:e}");
     assert!(summary > 0.0 && summary < 1e-10, "{summary:e}");
     assert!((shown - summary).abs() < 0.01 * summary, "shown {shown:e} vs the summary's {summary:e}");
-    assert!(data["energy"]["label"].as_str().unwrap().contains("bodies and robot links"));
+    let label = data["energy"]["label"].as_str().unwrap();
+    assert!(label.contains("of the bodies and robot links") && !label.contains("control"), "passive: {label}");
     assert!(data["title"].as_str().unwrap().contains("1 robot (3 moving links)"));
 }
 
@@ -320,6 +321,8 @@ fn the_panda_replay_has_its_base_hand_and_frames() {
     // PD control and damping do work: the energy changes, and the replay shows the summary's change
     let (shown, summary) = energy_errors(&data, &dir.path().join("p.json"));
     assert!(summary > 1e-3 && (shown - summary).abs() < 1e-3 * summary, "shown {shown:e}, summary {summary:e}");
+    let label = data["energy"]["label"].as_str().unwrap();
+    assert!(label.ends_with("(robots under control or damping: the change includes their work)"), "{label}");
 }
 
 /// A trajectory naming a link the robot lacks, a robot the scene lacks, or a link fixed to the
