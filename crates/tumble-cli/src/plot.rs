@@ -1,10 +1,19 @@
 //! `tumble plot TRAJ [--scene SCENE] --out FILE.svg|FILE.png`, and `tumble run --plot FILE`.
 //!
 //! Stacked panels over time, drawn with `plotters`:
-//! 1. the relative energy error `(E − E₀)/|E₀|` of the moving bodies (needs the scene's masses);
-//! 2. the angular-momentum error `|L − L₀|/|L₀|` about the world origin (needs the scene);
-//! 3. for each chosen body, the angular velocity in its body axes (rad/s), x, y and z;
-//! 4. for each chosen body, the position of its centre of mass (m), x, y and z.
+//! 1. the relative energy error `(E − E₀)/|E₀|` of the moving bodies and the robots' links (needs the
+//!    scene's masses);
+//! 2. the angular-momentum error `|L − L₀|/|L₀|` about the world origin (needs the scene), of the
+//!    moving bodies and the floating-base robots; left out when the only things that move are
+//!    fixed-base robots (the world holds them: their momentum is not conserved, and the run summary
+//!    does not count it);
+//! 3. for each robot (needs the scene), its kinetic, potential and total energy (J): how a pendulum
+//!    trades one for the other, and what PD control and damping do to the total;
+//! 4. for each chosen body, the angular velocity in its body axes (rad/s), x, y and z; for a robot
+//!    link, in its link axes;
+//! 5. for each chosen body, the position of its centre of mass (m), x, y and z; for a robot link, of
+//!    its link frame's origin (what its trajectory row holds: the path of a tool frame such as
+//!    `tip`). No per-link conservation panel: a link exchanges energy and momentum with the others.
 //!
 //! SVG text is left to the viewer's `sans-serif` font. PNG text is drawn with DejaVu Sans, which the
 //! binary carries (`assets/fonts`, Bitstream Vera license beside it), so a PNG looks the same on a
@@ -235,24 +244,42 @@ fn panels(
         } else {
             ("relative energy error (E − E₀)/|E₀|", "(E − E₀)/|E₀|")
         };
+        let what = if world.robots.is_empty() { "moving bodies" } else { "moving bodies and robot links" };
         let e0 = invariants.first().map_or(0.0, |i| i.energy);
         panels.push(Panel {
-            title: format!("{e_title}, moving bodies, E₀ = {} J", short(e0)),
+            title: format!("{e_title}, {what}, E₀ = {} J{}", short(e0), driven_note(world)),
             y_label: e_label.into(),
             series: vec![("energy".into(), X_COLOR, series(errors.energy))],
             scientific: true,
         });
+        // fixed-base robots alone: no momentum is counted (the world holds them)
+        let momentum_counted = world.free_bodies().next().is_some() || world.robots.iter().any(|r| r.floating);
         let (l_title, l_label) = if errors.angular_momentum_is_absolute {
             ("angular-momentum error |L − L₀| about the origin (L₀ = 0)", "|L − L₀| (kg·m²/s)")
         } else {
             ("angular-momentum error |L − L₀|/|L₀| about the origin", "|L − L₀|/|L₀|")
         };
-        panels.push(Panel {
-            title: l_title.into(),
-            y_label: l_label.into(),
-            series: vec![("angular momentum".into(), Z_COLOR, series(errors.angular_momentum))],
-            scientific: true,
-        });
+        if momentum_counted || world.robots.is_empty() {
+            panels.push(Panel {
+                title: l_title.into(),
+                y_label: l_label.into(),
+                series: vec![("angular momentum".into(), Z_COLOR, series(errors.angular_momentum))],
+                scientific: true,
+            });
+        }
+        for (robot, energies) in world.robots.iter().zip(derived::robot_energies(trajectory, world)) {
+            let part = |f: fn(&(f64, f64)) -> f64| series(energies.iter().map(f).collect());
+            panels.push(Panel {
+                title: format!("{}: kinetic, potential (zero at z = 0) and total energy of its links", robot.name),
+                y_label: "energy (J)".into(),
+                series: vec![
+                    ("kinetic".into(), X_COLOR, part(|e| e.0)),
+                    ("potential".into(), Y_COLOR, part(|e| e.1)),
+                    ("total".into(), Z_COLOR, part(|e| e.0 + e.1)),
+                ],
+                scientific: false,
+            });
+        }
     }
     for &b in chosen {
         let name = &trajectory.bodies[b];
@@ -269,20 +296,46 @@ fn panels(
                 })
                 .collect()
         };
+        // a robot link's row holds its link frame: its axes and its origin
+        let link = match world {
+            Some((world, _)) => world.robots.iter().any(|r| r.link_names().contains(name)),
+            None => false,
+        };
+        let (axes, omega_label, place) = if link {
+            ("link axes", "ω_link (rad/s)", "position of the link frame's origin")
+        } else if world.is_none() && name.contains('/') {
+            ("body axes (a robot link: link axes)", "ω_body (rad/s)", "position (a robot link: its frame's origin)")
+        } else {
+            ("body axes", "ω_body (rad/s)", "position of the centre of mass")
+        };
         panels.push(Panel {
-            title: format!("{name}: angular velocity in body axes"),
-            y_label: "ω_body (rad/s)".into(),
+            title: format!("{name}: angular velocity in {axes}"),
+            y_label: omega_label.into(),
             series: xyz(&omega, "ω_"),
             scientific: false,
         });
         panels.push(Panel {
-            title: format!("{name}: position of the centre of mass, world frame"),
+            title: format!("{name}: {place}, world frame"),
             y_label: "position (m)".into(),
             series: xyz(&position, ""),
             scientific: false,
         });
     }
     Ok(panels)
+}
+
+/// A note for energy titles when a robot is driven (torques, damping or PD gains): its energy is not
+/// conserved, and the change is their work, not an integration error. Empty otherwise.
+pub fn driven_note(world: &World) -> &'static str {
+    let driven = world.robots.iter().any(|r| {
+        let c = &r.control;
+        c.tau.iter().chain(&c.damping).chain(&c.kp).chain(&c.kd).any(|x| *x != 0.0)
+    });
+    if driven {
+        " (robots under control or damping: the change includes their work)"
+    } else {
+        ""
+    }
 }
 
 /// Draws the figure and returns the file's bytes.

@@ -13,10 +13,20 @@
 //!   body axes, `geometry` one of `sphere {radius}`, `box {half_extents}`, `capsule {radius,
 //!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
 //!   `convex_hull {vertices, triangles}`. A body without a shape gets its inertia-equivalent box
-//!   (`inertia_box: true`). A robot's links are bodies named `robot/link`, listed by robot.
+//!   (`inertia_box: true`).
+//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's name and
+//!   `marker` whether it is drawn as a small sphere; the legend lists the links by robot. A moving
+//!   link's `index` is its trajectory row, which holds the **link frame's** pose (origin and
+//!   `world_from_link`, not the centre of mass): its one part is its inertia-equivalent box
+//!   (`inertia_box: true`) placed at the link's centre of mass and principal axes within the link
+//!   frame, or, for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`). The
+//!   links fixed to the world (a fixed base) are fixed bodies (`index: null`), drawn the same way.
 //! - `times` (s) and `frames`: per frame, `x, y, z, qw, qx, qy, qz` of every moving body in order
-//!   (world frame, m; orientation `world_from_user`);
-//! - `energy`: `{label, values}`, the relative energy error per frame (or `null`).
+//!   (world frame, m; orientation `world_from_user`, for a robot link `world_from_link`);
+//! - `energy`: `{label, values}`, the relative energy error per frame (or `null`) of the whole
+//!   system: the moving bodies and the robots' links (kinetic plus gravitational potential, the
+//!   energy of the run summary; see `tumble::trajectory::derived`). For a robot driven by PD control
+//!   or damped, the change is the work of the controls and the damping, not an integration error.
 //!
 //! **Decimation.** At most about [`MAX_BODY_SAMPLES`] body-samples are kept (between that and twice
 //! it, and never more than 2 × [`MAX_FRAMES`] frames): frames are dropped evenly (every `2^k`-th
@@ -36,6 +46,8 @@ use tumble::scene;
 use tumble::trajectory::derived::{self, InvariantErrors};
 use tumble::trajectory::Trajectory;
 use tumble::{RigidBody, World};
+
+mod robots;
 
 /// The page, with its data marker.
 const TEMPLATE: &str = include_str!("../assets/viewer.html");
@@ -90,7 +102,7 @@ pub fn check_out(path: &Path, flag: &str) -> Result<(), Failure> {
 
 /// The frames to keep for a scene (see the module doc), or `requested`.
 pub fn frames_budget(world: &World, requested: Option<usize>) -> usize {
-    let moving = world.free_bodies().count().max(1);
+    let moving = (world.free_bodies().count() + world.robot_link_count()).max(1);
     requested.unwrap_or((MAX_BODY_SAMPLES / moving).clamp(2, MAX_FRAMES)).max(2)
 }
 
@@ -108,7 +120,16 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     let errors = InvariantErrors::of(&invariants);
     let mut out = String::with_capacity(64 + trajectory.frames.len() * trajectory.bodies.len() * 64);
     let (t0, t1) = trajectory.time_span();
-    let title = format!("{name} · {} · {} moving bodies · t = {t0}–{t1} s", origin, trajectory.bodies.len());
+    let what = match world.robots.len() {
+        0 => format!("{} moving bodies", trajectory.bodies.len()),
+        n => format!(
+            "{} moving bodies, {n} robot{} ({} moving links)",
+            world.free_bodies().count(),
+            if n > 1 { "s" } else { "" },
+            world.robot_link_count()
+        ),
+    };
+    let title = format!("{name} · {origin} · {what} · t = {t0}–{t1} s");
     let _ = write!(out, "{{\"title\":{},", json_string(&title));
     let truncated = truncation_note(trajectory).map(|n| format!("the trajectory ends early: {n}"));
     let _ = write!(out, "\"truncated\":{},", truncated.as_deref().map_or("null".into(), json_string));
@@ -149,6 +170,10 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
             body.shape.is_none(),
         );
     }
+    for robot in &world.robots {
+        colour += 1;
+        robots::push_bodies(&mut out, &mut first, robot, PALETTE[(colour - 1) % PALETTE.len()], &trajectory.bodies);
+    }
     out.push_str("],");
 
     out.push_str("\"times\":[");
@@ -168,11 +193,13 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     }
     out.push_str("],");
     let e0 = invariants.first().map_or(0.0, |i| i.energy);
+    // the whole system's energy: with robots, say that their links count
+    let what = if world.robots.is_empty() { "" } else { " of the bodies and robot links" };
     let label = if errors.energy_is_absolute {
-        "energy error E − E₀ (J), E₀ = 0".to_string()
+        format!("energy error E − E₀ (J){what}, E₀ = 0")
     } else {
-        format!("relative energy error (E − E₀)/|E₀|, E₀ = {} J", crate::plot::short(e0))
-    };
+        format!("relative energy error (E − E₀)/|E₀|{what}, E₀ = {} J", crate::plot::short(e0))
+    } + crate::plot::driven_note(world);
     let _ = write!(out, "\"energy\":{{\"label\":{},\"values\":[", json_string(&label));
     push_joined(&mut out, errors.energy.iter().copied());
     out.push_str("]}}");

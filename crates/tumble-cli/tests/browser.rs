@@ -5,6 +5,8 @@
 //! - screenshots at two times (the `#t=` fragment): the bodies are drawn (the middle of the scene is
 //!   not the background colour) and they moved (the two pictures differ there);
 //! - a trajectory cut short is replayed as far as it goes, with a note;
+//! - robots (the double pendulum and the Panda, links drawn as their inertia boxes): drawn, and moved
+//!   between two times;
 //! - the page asks for no resource: the browser is given a proxy (a listener in this test) that sees
 //!   every request for the network; no request is the page's. Chromium's own housekeeping requests
 //!   (its update and time services, on Google's domains) are told apart by host. A control page with
@@ -171,11 +173,12 @@ fn differs(a: [u8; 3], b: [u8; 3], by: i32) -> bool {
     a.iter().zip(b).any(|(&x, y)| (x as i32 - y as i32).abs() > by)
 }
 
-#[test]
-fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
+/// The browser to test with, or `None` when `TUMBLE_SKIP_BROWSER=1` skips the test; without one,
+/// the test fails saying how to install it.
+fn browser_binary() -> Option<PathBuf> {
     if std::env::var("TUMBLE_SKIP_BROWSER").as_deref() == Ok("1") {
         eprintln!("skipped: TUMBLE_SKIP_BROWSER=1 (the replay is not checked in a browser)");
-        return;
+        return None;
     }
     let Some(binary) = chromium() else {
         panic!(
@@ -184,6 +187,51 @@ fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
              or skip this test with TUMBLE_SKIP_BROWSER=1"
         );
     };
+    Some(binary)
+}
+
+/// The page's script ran to the end: `data-ready="1"` and no `data-error` in the DOM.
+fn assert_ready(binary: &Path, dir: &Path, proxy: &Proxy, page: &Path, profile: &str) {
+    let mut dom = browser(binary, dir, profile, proxy);
+    dom.arg("--dump-dom").arg(format!("file://{}#t=1", page.display()));
+    let dom = String::from_utf8_lossy(&run(dom, profile).stdout).into_owned();
+    assert!(dom.contains("data-ready=\"1\""), "the page did not finish setting up:\n{}", &dom[..dom.len().min(2000)]);
+    assert!(!dom.contains("data-error"), "the page reported an error");
+}
+
+/// Screenshots of `page` at `t0` and `t1` (s), without the grid and the axes (so what is not the
+/// background is a body): at least `1/drawn_part` of the middle of the scene is drawn at each time,
+/// and at least `1/moved_part` of it changed between them.
+#[allow(clippy::too_many_arguments)]
+fn assert_drawn_and_moved(
+    binary: &Path,
+    dir: &Path,
+    proxy: &Proxy,
+    page: &Path,
+    (t0, t1): (f64, f64),
+    drawn_part: usize,
+    moved_part: usize,
+    name: &str,
+) {
+    let early = screenshot(binary, dir, proxy, page, &format!("t={t0}&axes=0&grid=0"), &format!("{name}-early.png"));
+    let late = screenshot(binary, dir, proxy, page, &format!("t={t1}&axes=0&grid=0"), &format!("{name}-late.png"));
+    let total = middle(&early).count();
+    for (when, picture) in [(t0, &early), (t1, &late)] {
+        let drawn = middle(picture).filter(|&p| differs(p, BACKGROUND, 12)).count();
+        eprintln!("{name}, t = {when} s: {drawn} of {total} pixels in the middle of the scene are not the background");
+        assert!(
+            drawn * drawn_part > total,
+            "{name}, t = {when} s: only {drawn} of {total} pixels are not the background"
+        );
+    }
+    let moved = middle(&early).zip(middle(&late)).filter(|&(a, b)| differs(a, b, 30)).count();
+    eprintln!("{name}: {moved} of {total} pixels changed between t = {t0} s and t = {t1} s");
+    assert!(moved * moved_part > total, "{name}: only {moved} of {total} pixels changed between t = {t0} s and {t1} s");
+}
+
+#[test]
+fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
+    let Some(binary) = browser_binary() else { return };
     let dir = tempfile::tempdir().unwrap();
     tumble(dir.path())
         .args(["run", "--duration", "4", "--out", "demo.csv", "--view", "demo.html", "-q"])
@@ -193,25 +241,10 @@ fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
     let proxy = Proxy::start();
 
     // the script ran to the end
-    let mut dom = browser(&binary, dir.path(), "dom", &proxy);
-    dom.arg("--dump-dom").arg(format!("file://{}#t=1", page.display()));
-    let dom = String::from_utf8_lossy(&run(dom, "dump-dom").stdout).into_owned();
-    assert!(dom.contains("data-ready=\"1\""), "the page did not finish setting up:\n{}", &dom[..dom.len().min(2000)]);
-    assert!(!dom.contains("data-error"), "the page reported an error");
+    assert_ready(&binary, dir.path(), &proxy, &page, "dom");
 
-    // bodies drawn, and moved between t = 0.5 s and t = 2 s (the flipper turns by 7.5 rad); without
-    // the grid and the axes, what is not the background is a body
-    let early = screenshot(&binary, dir.path(), &proxy, &page, "t=0.5&axes=0&grid=0", "early.png");
-    let late = screenshot(&binary, dir.path(), &proxy, &page, "t=2&axes=0&grid=0", "late.png");
-    let total = middle(&early).count();
-    for (name, picture) in [("t = 0.5 s", &early), ("t = 2 s", &late)] {
-        let drawn = middle(picture).filter(|&p| differs(p, BACKGROUND, 12)).count();
-        eprintln!("{name}: {drawn} of {total} pixels in the middle of the scene are not the background");
-        assert!(drawn * 20 > total, "{name}: only {drawn} of {total} pixels are not the background");
-    }
-    let moved = middle(&early).zip(middle(&late)).filter(|&(a, b)| differs(a, b, 30)).count();
-    eprintln!("{moved} of {total} pixels changed between t = 0.5 s and t = 2 s");
-    assert!(moved * 50 > total, "only {moved} of {total} pixels changed between t = 0.5 s and t = 2 s");
+    // bodies drawn, and moved between t = 0.5 s and t = 2 s (the flipper turns by 7.5 rad)
+    assert_drawn_and_moved(&binary, dir.path(), &proxy, &page, (0.5, 2.0), 20, 50, "demo");
 
     // a trajectory cut short: the page shows what is there, and says so
     let text = std::fs::read_to_string(dir.path().join("demo.csv")).unwrap();
@@ -238,4 +271,28 @@ fn the_replay_draws_and_moves_the_bodies_and_loads_nothing() {
     run(command, "control");
     let seen = proxy.page_requests();
     assert!(seen.iter().any(|r| r.contains("example.invalid")), "the control page's request was not seen: {seen:?}");
+}
+
+#[test]
+fn robot_replays_draw_and_move_their_links() {
+    let Some(binary) = browser_binary() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let proxy = Proxy::start();
+    // the two thin 1 m links (8 cm thick boxes), released at 1 rad and −0.5 rad, swing through the
+    // bottom by t = 0.7 s; the Panda's PD control moves it to another pose by t = 2 s
+    for (name, scene, duration, times, drawn_part, moved_part) in [
+        ("pendulum", "double_pendulum.toml", "2", (0.0, 0.7), 400, 1000),
+        ("panda", "panda.toml", "3", (0.0, 2.0), 50, 200),
+    ] {
+        let page = dir.path().join(format!("{name}.html"));
+        tumble(dir.path())
+            .args(["run", scenes.join(scene).to_str().unwrap(), "--duration", duration, "-q"])
+            .args(["--out", &format!("{name}.csv"), "--view", page.to_str().unwrap()])
+            .assert()
+            .success();
+        assert_ready(&binary, dir.path(), &proxy, &page, &format!("{name}-dom"));
+        assert_drawn_and_moved(&binary, dir.path(), &proxy, &page, times, drawn_part, moved_part, name);
+    }
+    assert_eq!(proxy.page_requests(), Vec::<String>::new(), "the replay made network requests");
 }

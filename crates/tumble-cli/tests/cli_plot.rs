@@ -184,3 +184,86 @@ fn extreme_values_are_plotted_without_failing() {
         assert!(fs::metadata(dir.path().join(out)).unwrap().len() > 1000);
     }
 }
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name)
+}
+
+/// The double pendulum: the energy error of the links, the robot's energies, and per link its
+/// angular velocity in link axes and the path of its frame's origin; no angular-momentum panel (a
+/// fixed base: the world holds the robot, its momentum is not counted).
+#[test]
+fn a_robot_has_its_energy_and_link_panels() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("double_pendulum.toml");
+    let scene = scene.to_str().unwrap();
+    tumble(dir.path()).args(["run", scene, "--duration", "2", "--out", "dp.csv", "-q"]).assert().success();
+    tumble(dir.path()).args(["plot", "dp.csv", "--scene", scene, "--out", "p.svg"]).assert().success();
+    let svg = fs::read_to_string(dir.path().join("p.svg")).unwrap();
+    for text in [
+        "relative energy error (E − E₀)/|E₀|, moving bodies and robot links, E₀ = 36.79491 J",
+        "pendulum: kinetic, potential (zero at z = 0) and total energy of its links",
+        "energy (J)",
+        "kinetic",
+        "pendulum/upper: angular velocity in link axes",
+        "ω_link (rad/s)",
+        "pendulum/tip: position of the link frame&apos;s origin, world frame",
+    ] {
+        assert!(svg.contains(text) || svg.contains(&text.replace("&apos;", "'")), "missing `{text}`");
+    }
+    assert!(!svg.contains("angular-momentum error"));
+    assert_eq!(svg.matches("time (s)").count(), 8, "energy error, robot energy, 2 panels for each of 3 links");
+    // without the scene: the kinematics, and the titles say what a link's row holds
+    tumble(dir.path()).args(["plot", "dp.csv", "--out", "k.svg", "--bodies", "pendulum/tip"]).assert().success();
+    let svg = fs::read_to_string(dir.path().join("k.svg")).unwrap();
+    assert!(svg.contains("pendulum/tip: position (a robot link: its frame"), "title for a link without the scene");
+    assert_eq!(svg.matches("time (s)").count(), 2);
+}
+
+/// A body beside a floating-base robot: the momentum panel is back (both are counted).
+#[test]
+fn a_floating_robot_beside_a_body_keeps_the_momentum_panel() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = fs::read_to_string(scene_path("robots/double_pendulum.urdf")).unwrap();
+    let base =
+        r#"<link name="base"><inertial><mass value="3"/><inertia ixx="0.1" iyy="0.2" izz="0.25"/></inertial></link>"#;
+    fs::write(dir.path().join("flyer.urdf"), urdf.replace(r#"<link name="base"/>"#, base)).unwrap();
+    let scene = "version = 1\n[world]\nduration = 0.5\ndt = 0.001\nintegrator = \"rk4\"\n\
+                 [[body]]\nname = \"ball\"\nmass = 1.0\ninertia = [0.1, 0.1, 0.1]\nvelocity = [1.0, 0.0, 3.0]\n\
+                 [[robot]]\nname = \"flyer\"\nurdf = \"flyer.urdf\"\nbase = \"floating\"\nposition = [0.0, 2.0, 3.0]\n\
+                 v = { root_joint = [0.0, 0.0, 1.0, 0.5, 0.0, 0.2], shoulder = 1.0 }\n";
+    fs::write(dir.path().join("s.toml"), scene).unwrap();
+    tumble(dir.path())
+        .args(["run", "s.toml", "--out", "s.csv", "--plot", "s.svg", "--view", "s.html", "-q"])
+        .assert()
+        .success();
+    let svg = fs::read_to_string(dir.path().join("s.svg")).unwrap();
+    assert!(svg.contains("angular-momentum error") && svg.contains("flyer: kinetic, potential"));
+    assert!(
+        svg.contains("ball: angular velocity in body axes")
+            && svg.contains("flyer/base: angular velocity in link axes")
+    );
+    // energy, momentum, the robot's energy, and 2 panels for each of the first 4 rows
+    assert_eq!(svg.matches("time (s)").count(), 3 + 2 * 4);
+}
+
+#[test]
+fn a_robot_trajectory_against_another_scene_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("double_pendulum.toml");
+    let scene = scene.to_str().unwrap();
+    tumble(dir.path()).args(["run", scene, "--duration", "0.1", "--out", "dp.csv", "-q"]).assert().success();
+    let text = fs::read_to_string(dir.path().join("dp.csv")).unwrap();
+    fs::write(dir.path().join("dp.csv"), text.replace(",pendulum/tip,", ",pendulum/nolink,")).unwrap();
+    tumble(dir.path())
+        .args(["plot", "dp.csv", "--scene", scene, "--out", "p.svg"])
+        .assert()
+        .code(2)
+        .stderr(contains("`pendulum/nolink`").and(contains("robot `pendulum` has no moving link `nolink`")));
+    tumble(dir.path())
+        .args(["plot", "dp.csv", "--scene", demo_scene().to_str().unwrap(), "--out", "p.svg"])
+        .assert()
+        .code(2)
+        .stderr(contains("the scene has no robot `pendulum`"));
+    assert!(!dir.path().join("p.svg").exists());
+}

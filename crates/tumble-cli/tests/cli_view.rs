@@ -220,3 +220,142 @@ fn a_mesh_body_is_drawn_as_its_triangles() {
         (0..3).map(|k| vertices.iter().map(|v| v[k].as_f64().unwrap()).sum::<f64>() / vertices.len() as f64).collect();
     assert!(centroid.iter().all(|c| c.abs() < 1e-6), "{centroid:?}");
 }
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name)
+}
+
+fn floats(value: &Value) -> Vec<f64> {
+    value.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+/// The largest `|value|` of the replay's energy series, and the run summary's largest energy error.
+fn energy_errors(data: &Value, summary: &Path) -> (f64, f64) {
+    let shown = floats(&data["energy"]["values"]).iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+    let summary: Value = serde_json::from_str(&fs::read_to_string(summary).unwrap()).unwrap();
+    (shown, summary["energy"]["max_relative_error"].as_f64().unwrap())
+}
+
+/// The double pendulum: the links are drawn as their inertia boxes at their centres of mass (the
+/// rows hold the link frames, 0.5 m above), the massless `tip` and `base` as markers, and the energy
+/// error is the run's (RK4: about 5e-12), not a spurious one.
+#[test]
+fn robot_links_are_drawn_as_inertia_boxes_at_their_centres_of_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("double_pendulum.toml");
+    tumble(dir.path())
+        .args(["run", scene.to_str().unwrap(), "--out", "dp.csv", "--summary", "dp.json", "--quiet"])
+        .assert()
+        .success();
+    view(dir.path(), &["dp.csv", "--scene", scene.to_str().unwrap(), "--out", "dp.html"]).success();
+    let html = fs::read_to_string(dir.path().join("dp.html")).unwrap();
+    assert_eq!(external_references(&html), Vec::<String>::new());
+    let data = data_of(&html);
+    let bodies = data["bodies"].as_array().unwrap();
+    let names: Vec<&str> = bodies.iter().map(|b| b["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["pendulum/upper", "pendulum/lower", "pendulum/tip", "pendulum/base"]);
+    let indices: Vec<&Value> = bodies.iter().map(|b| &b["index"]).collect();
+    assert_eq!(indices, [&Value::from(0), &Value::from(1), &Value::from(2), &Value::Null]);
+    assert!(bodies.iter().all(|b| b["robot"] == "pendulum"));
+    // 1 kg, I = (1/12, 1/12, 0.001) kg·m² about the centre of mass 0.5 m down the link:
+    // h_x² = h_y² = 3 · 0.001 / 2, h_z² = 3 (1/6 − 0.001) / 2
+    for link in &bodies[..2] {
+        assert_eq!((link["inertia_box"].as_bool(), link["marker"].as_bool()), (Some(true), Some(false)));
+        let part = &link["parts"][0];
+        assert_eq!(part["geometry"]["type"], "box");
+        let h = floats(&part["geometry"]["half_extents"]);
+        let want = [0.0015f64.sqrt(), 0.0015f64.sqrt(), (1.5 * (1.0 / 6.0 - 0.001f64)).sqrt()];
+        assert!(h.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-6), "{h:?}");
+        assert_eq!(floats(&part["position"]), [0.0, 0.0, -0.5], "at the centre of mass, in the link frame");
+        assert_eq!(floats(&part["orientation"]), [1.0, 0.0, 0.0, 0.0]);
+    }
+    for marker in &bodies[2..] {
+        assert_eq!((marker["inertia_box"].as_bool(), marker["marker"].as_bool()), (Some(false), Some(true)));
+        assert_eq!(marker["parts"][0]["geometry"]["type"], "sphere");
+    }
+    // the pivot, fixed to the world 2.5 m up
+    assert_eq!(floats(&bodies[3]["position"]), [0.0, 0.0, 2.5]);
+    // one hue: every colour is a multiple of the palette's first, or lighter for markers
+    let upper = floats(&bodies[0]["color"]);
+    let lower = floats(&bodies[1]["color"]);
+    assert!((lower[0] / upper[0] - lower[2] / upper[2]).abs() < 1e-3 && lower[0] < upper[0], "{upper:?} {lower:?}");
+    // frames: x, y, z, qw, qx, qy, qz of the 3 moving links; the lower link's frame is at the elbow
+    let frames = data["frames"].as_array().unwrap();
+    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 21));
+    let elbow = floats(&frames[0]).into_iter().skip(7).take(3).collect::<Vec<_>>();
+    assert!((elbow[1] - 1f64.sin()).abs() < 1e-6 && (elbow[2] - (2.5 - 1f64.cos())).abs() < 1e-6, "{elbow:?}");
+    let (shown, summary) = energy_errors(&data, &dir.path().join("dp.json"));
+    eprintln!("double pendulum: largest energy error shown {shown:e}, in the summary {summary:e}");
+    assert!(summary > 0.0 && summary < 1e-10, "{summary:e}");
+    assert!((shown - summary).abs() < 0.01 * summary, "shown {shown:e} vs the summary's {summary:e}");
+    let label = data["energy"]["label"].as_str().unwrap();
+    assert!(label.contains("of the bodies and robot links") && !label.contains("control"), "passive: {label}");
+    assert!(data["title"].as_str().unwrap().contains("1 robot (3 moving links)"));
+}
+
+/// The Panda: its fixed base (`panda_link0`, 0.63 kg) is a fixed body, the hand (fixed to link 8,
+/// with its own mass) a box of its own, the massless frames markers; the page stays small.
+#[test]
+fn the_panda_replay_has_its_base_hand_and_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("panda.toml");
+    tumble(dir.path())
+        .args(["run", scene.to_str().unwrap(), "--out", "p.csv", "--summary", "p.json", "--view", "p.html", "-q"])
+        .assert()
+        .success();
+    let html = fs::read_to_string(dir.path().join("p.html")).unwrap();
+    eprintln!("panda replay (3 s, 301 samples, 12 moving links): {} bytes", html.len());
+    assert!(html.len() < 400_000, "{} bytes", html.len());
+    let data = data_of(&html);
+    let bodies = data["bodies"].as_array().unwrap();
+    let find = |name: &str| bodies.iter().find(|b| b["name"] == name).unwrap_or_else(|| panic!("{name}"));
+    let base = find("panda/panda_link0");
+    assert_eq!((&base["index"], &base["inertia_box"]), (&Value::Null, &Value::Bool(true)));
+    assert_eq!(find("panda/panda_hand")["inertia_box"], true);
+    for frame in ["panda/panda_link8", "panda/panda_hand_tcp"] {
+        assert_eq!(find(frame)["marker"], true, "{frame}");
+    }
+    assert_eq!(bodies.len(), 13, "12 moving links and the base");
+    let moving = bodies.iter().filter(|b| !b["index"].is_null()).count();
+    assert!(data["frames"].as_array().unwrap().iter().all(|f| f.as_array().unwrap().len() == 7 * moving));
+    // PD control and damping do work: the energy changes, and the replay shows the summary's change
+    let (shown, summary) = energy_errors(&data, &dir.path().join("p.json"));
+    assert!(summary > 1e-3 && (shown - summary).abs() < 1e-3 * summary, "shown {shown:e}, summary {summary:e}");
+    let label = data["energy"]["label"].as_str().unwrap();
+    assert!(label.ends_with("(robots under control or damping: the change includes their work)"), "{label}");
+}
+
+/// A trajectory naming a link the robot lacks, a robot the scene lacks, or a link fixed to the
+/// world: exit 2, each named, nothing written.
+#[test]
+fn a_link_or_robot_the_scene_lacks_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("double_pendulum.toml");
+    let scene = scene.to_str().unwrap();
+    tumble(dir.path()).args(["run", scene, "--duration", "0.1", "--out", "dp.csv", "-q"]).assert().success();
+    let text = fs::read_to_string(dir.path().join("dp.csv")).unwrap();
+    fs::write(dir.path().join("nolink.csv"), text.replace(",pendulum/lower,", ",pendulum/nolink,")).unwrap();
+    view(dir.path(), &["nolink.csv", "--scene", scene, "--out", "x.html"])
+        .code(2)
+        .stderr(contains("the trajectory does not match the scene"))
+        .stderr(contains("`pendulum/nolink`").and(contains("lacks moving bodies of the scene")))
+        .stderr(contains("`pendulum/lower`"))
+        .stderr(contains("robot `pendulum` has no moving link `nolink` (its moving links: `upper`, `lower`, `tip`)"));
+    fs::write(dir.path().join("arm.csv"), text.replace(",pendulum/", ",arm/")).unwrap();
+    view(dir.path(), &["arm.csv", "--scene", scene, "--out", "x.html"])
+        .code(2)
+        .stderr(contains("`arm/upper`").and(contains("the scene has no robot `arm` (its robots: `pendulum`)")));
+    fs::write(dir.path().join("base.csv"), text.replace(",pendulum/tip,", ",pendulum/base,")).unwrap();
+    view(dir.path(), &["base.csv", "--scene", scene, "--out", "x.html"])
+        .code(2)
+        .stderr(contains("`base` of robot `pendulum` is fixed to the world (never written)"));
+    // the robot's trajectory against a scene without it, and the other way round
+    view(dir.path(), &["dp.csv", "--scene", demo_scene().to_str().unwrap(), "--out", "x.html"])
+        .code(2)
+        .stderr(contains("`pendulum/upper`").and(contains("the scene has no robot `pendulum`")));
+    tumble(dir.path()).args(["run", "--duration", "0.1", "--out", "demo.csv", "-q"]).assert().success();
+    view(dir.path(), &["demo.csv", "--scene", scene, "--out", "x.html"])
+        .code(2)
+        .stderr(contains("`flipper`, `stable`").and(contains("`pendulum/upper`, `pendulum/lower`, `pendulum/tip`")));
+    assert!(!dir.path().join("x.html").exists());
+}

@@ -74,6 +74,10 @@ pub struct Frame {
     pub x_from_body: Xform,
     /// How the frame is attached.
     pub origin: FrameOrigin,
+    /// The link's own spatial inertia, in this frame's coordinates (what the source gave the link,
+    /// before merging): the bodies' inertias are sums of these, so the links of a tree carry its whole
+    /// mass once. Zero for a massless link (a tool frame).
+    pub inertia: RigidInertia,
 }
 
 /// How a frame is attached to the tree.
@@ -312,6 +316,7 @@ impl ModelBuilder {
             body: Some(index),
             x_from_body: Xform::IDENTITY,
             origin: FrameOrigin::Body(index),
+            inertia,
         });
         self.bodies.push(Body { name, parent, joint, inertia });
         Ok(index)
@@ -332,9 +337,18 @@ impl ModelBuilder {
         }
     }
 
-    /// Adds a named frame fixed to `body` (`None`: the world) at `frame_X_body`.
-    pub fn add_frame(&mut self, name: impl Into<String>, body: Option<usize>, x_from_body: Xform, origin: FrameOrigin) {
-        self.frames.push(Frame { name: name.into(), body, x_from_body, origin });
+    /// Adds a named frame fixed to `body` (`None`: the world) at `frame_X_body`, for a link whose own
+    /// inertia is `inertia` (in the frame's coordinates; it is not added to the body: see
+    /// [`add_inertia`](Self::add_inertia)).
+    pub fn add_frame(
+        &mut self,
+        name: impl Into<String>,
+        body: Option<usize>,
+        x_from_body: Xform,
+        origin: FrameOrigin,
+        inertia: RigidInertia,
+    ) {
+        self.frames.push(Frame { name: name.into(), body, x_from_body, origin, inertia });
     }
 
     /// Names the link on the parent side of body `index`'s joint (by default the parent body's name).

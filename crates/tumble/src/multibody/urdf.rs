@@ -354,7 +354,13 @@ impl<'a, 'input> Parser<'a, 'input> {
             Some(b)
         } else {
             builder.add_inertia(None, links[root_link].inertia);
-            builder.add_frame(links[root_link].name, None, Xform::IDENTITY, FrameOrigin::Root);
+            builder.add_frame(
+                links[root_link].name,
+                None,
+                Xform::IDENTITY,
+                FrameOrigin::Root,
+                links[root_link].inertia,
+            );
             None
         };
         link_body[root_link] = Some((root_body, Xform::IDENTITY));
@@ -374,7 +380,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         joint: joint.name.to_string(),
                         parent_link: links[joint.parent].name.to_string(),
                     };
-                    builder.add_frame(child_link.name, parent_body, x_tree, origin);
+                    builder.add_frame(child_link.name, parent_body, x_tree, origin, child_link.inertia);
                     link_body[joint.child] = Some((parent_body, x_tree));
                 }
                 Some(kind) => {

@@ -2,8 +2,11 @@
 //! frame (computed with the scene's mass properties and gravity), their errors against the first
 //! frame, and the body-frame angular velocity.
 //!
-//! - Energy `E = Σ ½ m |v|² + ½ ω_bodyᵀ I_body ω_body − m g · x` over the moving bodies (J).
-//! - Angular momentum about the world origin `L = Σ x × m v + R I_body ω_body`, world frame (kg·m²/s).
+//! - Energy `E = Σ ½ m |v|² + ½ ω_bodyᵀ I_body ω_body − m g · x` over the moving bodies, plus the
+//!   energy of the robots' moving links ([`link_invariants`]) (J): the run summary's energy.
+//! - Angular momentum about the world origin `L = Σ x × m v + R I_body ω_body`, world frame
+//!   (kg·m²/s), plus that of the links of floating-base robots (a fixed base is held by the world, so
+//!   the summary leaves fixed-base robots out of the momenta, and so does this).
 //! - Errors as in the run summary ([`Monitor`](super::Monitor)): the energy error is signed,
 //!   `(E − E₀) / |E₀|`, so a plot shows drift up or down; the angular-momentum error is
 //!   `|L − L₀| / |L₀|`. When the initial value is exactly zero the error is absolute (J or kg·m²/s).
@@ -15,14 +18,23 @@
 
 use super::read::{BodySample, ReadError, Trajectory};
 use super::Invariants;
-use crate::math::DVec3;
+use crate::math::{DMat3, DVec3};
+use crate::multibody::{Motion, RigidInertia};
 use crate::world::World;
 use crate::RigidBody;
 
+/// What a trajectory row is: a free body of the scene (a scratch copy, its state replaced frame by
+/// frame) or a moving link of a robot (its own inertia in the link frame; whether its momentum
+/// counts, that is, whether its robot has a floating base).
+enum Row {
+    Body(Box<RigidBody>),
+    Link { inertia: RigidInertia, momentum: bool },
+}
+
 /// The invariants of every frame of `trajectory`, with the mass properties and gravity of `world`.
 ///
-/// The trajectory's bodies must be exactly the world's moving bodies ([`Trajectory::check_bodies`];
-/// `trajectory_name` and `scene_name` name the files in the error).
+/// The trajectory's bodies must be exactly the world's moving bodies and robot links
+/// ([`Trajectory::check_bodies`]; `trajectory_name` and `scene_name` name the files in the error).
 pub fn invariants(
     trajectory: &Trajectory,
     world: &World,
@@ -30,25 +42,115 @@ pub fn invariants(
     scene_name: &str,
 ) -> Result<Vec<Invariants>, ReadError> {
     trajectory.check_bodies(world, trajectory_name, scene_name)?;
-    // one scratch copy of each body, its state replaced frame by frame
-    let mut bodies: Vec<RigidBody> =
-        trajectory.bodies.iter().filter_map(|name| world.free_bodies().find(|b| &b.name == name).cloned()).collect();
+    let mut rows: Vec<Row> = trajectory.bodies.iter().filter_map(|name| row(world, name)).collect();
     let gravity = world.config.gravity;
     let out = trajectory
         .frames
         .iter()
         .map(|frame| {
             let mut total = Invariants { energy: 0.0, linear_momentum: DVec3::ZERO, angular_momentum: DVec3::ZERO };
-            for (body, sample) in bodies.iter_mut().zip(&frame.states) {
-                set_state(body, sample);
-                total.energy += body.kinetic_energy() + body.potential_energy(gravity);
-                total.linear_momentum += body.mass.mass * body.state.velocity;
-                total.angular_momentum += body.angular_momentum_world();
+            for (row, sample) in rows.iter_mut().zip(&frame.states) {
+                match row {
+                    Row::Body(body) => {
+                        set_state(body, sample);
+                        total.energy += body.kinetic_energy() + body.potential_energy(gravity);
+                        total.linear_momentum += body.mass.mass * body.state.velocity;
+                        total.angular_momentum += body.angular_momentum_world();
+                    }
+                    Row::Link { inertia, momentum } => {
+                        let link = link_invariants(inertia, sample, gravity);
+                        total.energy += link.energy;
+                        if *momentum {
+                            total.linear_momentum += link.linear_momentum;
+                            total.angular_momentum += link.angular_momentum;
+                        }
+                    }
+                }
             }
             total
         })
         .collect();
     Ok(out)
+}
+
+/// The row of the trajectory body `name` in `world` (after [`Trajectory::check_bodies`]).
+fn row(world: &World, name: &str) -> Option<Row> {
+    if let Some(body) = world.free_bodies().find(|b| b.name == name) {
+        return Some(Row::Body(Box::new(body.clone())));
+    }
+    world.robots.iter().find_map(|robot| {
+        let k = robot.link_names().iter().position(|n| n == name)?;
+        Some(Row::Link { inertia: robot.link_frame(k).inertia, momentum: robot.floating })
+    })
+}
+
+/// The energy and momentum of one robot link from its trajectory sample (`position` the link
+/// frame's origin, `orientation` `world_from_link`, `velocity` that of the origin, all world frame)
+/// and the link's own inertia `inertia` in the link frame, under `gravity` (m/s²).
+///
+/// With `R = world_from_link`, `p` the origin and `c` the centre of mass in the link frame:
+/// - `v_link = [Rᵀ ω; Rᵀ v_o]` (the link's spatial velocity in its own frame);
+/// - `T = ½ v_linkᵀ I v_link`, `V = −m g · (p + R c)` (J; zero potential at the world origin);
+/// - `[L; P] = link_X_worldᵀ (I v_link)`, the momentum about the world origin, world frame.
+///
+/// These are the sums [`Robot::energy`](crate::world::Robot::energy) makes over the tree's bodies,
+/// link by link (a body's inertia is the sum of its links').
+pub fn link_invariants(inertia: &RigidInertia, sample: &BodySample, gravity: DVec3) -> Invariants {
+    let world_from_link = DMat3::from_quat(sample.orientation);
+    let v_link = link_velocity(&world_from_link, sample);
+    // h = I v_link (link frame), then to the world: [R n + p × R f; R f]
+    let h_link = inertia.mul_motion(v_link);
+    let linear_momentum = world_from_link * h_link.lin;
+    let (kinetic, potential) = link_energy(inertia, sample, gravity);
+    Invariants {
+        energy: kinetic + potential,
+        linear_momentum,
+        angular_momentum: world_from_link * h_link.ang + sample.position.cross(linear_momentum),
+    }
+}
+
+/// The kinetic and the gravitational potential energy of one robot link (J), as in
+/// [`link_invariants`]: `T = ½ v_linkᵀ I v_link`, `V = −m g · (p + R c)`.
+pub fn link_energy(inertia: &RigidInertia, sample: &BodySample, gravity: DVec3) -> (f64, f64) {
+    let world_from_link = DMat3::from_quat(sample.orientation);
+    let kinetic = inertia.kinetic_energy(link_velocity(&world_from_link, sample));
+    let com_world = sample.position + world_from_link * inertia.com();
+    (kinetic, -inertia.mass * gravity.dot(com_world))
+}
+
+/// `v_link = [Rᵀ ω; Rᵀ v_o]`: a link's spatial velocity in its own frame, from its row.
+fn link_velocity(world_from_link: &DMat3, sample: &BodySample) -> Motion {
+    let link_from_world = world_from_link.transpose();
+    Motion { ang: link_from_world * sample.angular_velocity, lin: link_from_world * sample.velocity }
+}
+
+/// The kinetic and potential energy (J) of each robot of `world`, frame by frame, from its links'
+/// rows ([`link_energy`]): `out[r][f]` is `(T, V)` of robot `r` at frame `f`. The trajectory's bodies
+/// must be those of `world` ([`Trajectory::check_bodies`]); a link without a row counts nothing.
+pub fn robot_energies(trajectory: &Trajectory, world: &World) -> Vec<Vec<(f64, f64)>> {
+    let gravity = world.config.gravity;
+    world
+        .robots
+        .iter()
+        .map(|robot| {
+            let rows: Vec<(usize, RigidInertia)> = (0..robot.link_names().len())
+                .filter_map(|k| {
+                    let row = trajectory.bodies.iter().position(|n| n == &robot.link_names()[k])?;
+                    Some((row, robot.link_frame(k).inertia))
+                })
+                .collect();
+            trajectory
+                .frames
+                .iter()
+                .map(|frame| {
+                    rows.iter().fold((0.0, 0.0), |(t, v), (row, inertia)| {
+                        let (dt, dv) = link_energy(inertia, &frame.states[*row], gravity);
+                        (t + dt, v + dv)
+                    })
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// Sets a body's state from a trajectory sample (world frame, the user's body axes).

@@ -118,7 +118,7 @@ pub enum ReadError {
     #[error("{path}:{line}: time goes backwards: t = {t} s after {previous} s")]
     TimeBackwards { path: String, line: usize, t: f64, previous: f64 },
     /// The trajectory's bodies are not the scene's moving bodies.
-    #[error("{}", mismatch_text(.trajectory, .scene, .unknown, .missing))]
+    #[error("{}", mismatch_text(.trajectory, .scene, .unknown, .missing, .notes))]
     BodiesMismatch {
         /// The trajectory file.
         trajectory: String,
@@ -128,6 +128,9 @@ pub enum ReadError {
         unknown: Vec<String>,
         /// Moving bodies of the scene that the trajectory lacks.
         missing: Vec<String>,
+        /// What the unknown names `robot/link` miss: a robot the scene lacks, a link its robot lacks
+        /// or a link fixed to the world (never written).
+        notes: Vec<String>,
     },
 }
 
@@ -140,7 +143,7 @@ fn quoted(names: &[String]) -> String {
     text
 }
 
-fn mismatch_text(trajectory: &str, scene: &str, unknown: &[String], missing: &[String]) -> String {
+fn mismatch_text(trajectory: &str, scene: &str, unknown: &[String], missing: &[String], notes: &[String]) -> String {
     let mut parts = Vec::new();
     if !unknown.is_empty() {
         parts.push(format!("has bodies that are not moving bodies of the scene {scene}: {}", quoted(unknown)));
@@ -148,7 +151,54 @@ fn mismatch_text(trajectory: &str, scene: &str, unknown: &[String], missing: &[S
     if !missing.is_empty() {
         parts.push(format!("lacks moving bodies of the scene {scene}: {}", quoted(missing)));
     }
-    format!("{trajectory}: the trajectory does not match the scene: it {}", parts.join("; and it "))
+    let mut text = format!("{trajectory}: the trajectory does not match the scene: it {}", parts.join("; and it "));
+    for note in notes {
+        text.push_str("; ");
+        text.push_str(note);
+    }
+    text
+}
+
+/// Notes on the unknown names that look like robot links (`robot/link`), one per robot named: the
+/// scene has no such robot, or the robot has no such moving link (with the links it has).
+fn robot_notes(world: &World, unknown: &[String]) -> Vec<String> {
+    let mut robots: Vec<(&str, Vec<&str>)> = Vec::new();
+    for (robot, link) in unknown.iter().filter_map(|n| n.split_once('/')) {
+        match robots.iter_mut().find(|(r, _)| *r == robot) {
+            Some((_, links)) => links.push(link),
+            None => robots.push((robot, vec![link])),
+        }
+    }
+    let names = |items: &[&str]| quoted(&items.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+    robots
+        .into_iter()
+        .map(|(robot, links)| match world.robots.iter().find(|r| r.name == robot) {
+            None if world.robots.is_empty() => format!("the scene has no robot `{robot}`"),
+            None => {
+                let known: Vec<&str> = world.robots.iter().map(|r| r.name.as_str()).collect();
+                format!("the scene has no robot `{robot}` (its robots: {})", names(&known))
+            }
+            Some(r) => {
+                let fixed: Vec<&str> =
+                    r.model.frames.iter().filter(|f| f.body.is_none()).map(|f| f.name.as_str()).collect();
+                let (held, absent): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| fixed.contains(l));
+                let moving: Vec<&str> =
+                    r.link_names().iter().map(|n| n.strip_prefix(&format!("{robot}/")).unwrap_or(n)).collect();
+                let mut parts = Vec::new();
+                if !absent.is_empty() {
+                    parts.push(format!("robot `{robot}` has no moving link {}", names(&absent)));
+                }
+                if !held.is_empty() {
+                    parts.push(format!(
+                        "{} of robot `{robot}` {} fixed to the world (never written)",
+                        names(&held),
+                        if held.len() > 1 { "are" } else { "is" }
+                    ));
+                }
+                format!("{} (its moving links: {})", parts.join(", and "), names(&moving))
+            }
+        })
+        .collect()
 }
 
 /// The trajectory format of a path: `.csv` or `.jsonl`, looking through a `.partial` suffix (the file
@@ -504,17 +554,19 @@ fn json_line(text: &str, origin: &str, line: usize) -> Result<Vec<(f64, String, 
 }
 
 impl Trajectory {
-    /// Checks that the bodies are exactly the moving bodies of `world` (in any order); `trajectory`
-    /// and `scene` name the two files in the message.
+    /// Checks that the bodies are exactly the moving bodies of `world` and the moving links of its
+    /// robots (`robot/link`), in any order; `trajectory` and `scene` name the two files in the message.
     pub fn check_bodies(&self, world: &World, trajectory: &str, scene: &str) -> Result<(), ReadError> {
-        let moving: Vec<&str> = world.free_bodies().map(|b| b.name.as_str()).collect();
+        let links = world.robots.iter().flat_map(|r| r.link_names().iter().map(String::as_str));
+        let moving: Vec<&str> = world.free_bodies().map(|b| b.name.as_str()).chain(links).collect();
         let unknown: Vec<String> = self.bodies.iter().filter(|n| !moving.contains(&n.as_str())).cloned().collect();
         let missing: Vec<String> =
             moving.iter().filter(|n| !self.bodies.iter().any(|b| b == *n)).map(|n| n.to_string()).collect();
         if unknown.is_empty() && missing.is_empty() {
             return Ok(());
         }
-        Err(ReadError::BodiesMismatch { trajectory: trajectory.into(), scene: scene.into(), unknown, missing })
+        let notes = robot_notes(world, &unknown);
+        Err(ReadError::BodiesMismatch { trajectory: trajectory.into(), scene: scene.into(), unknown, missing, notes })
     }
 
     /// The time of the first and last frame (s).

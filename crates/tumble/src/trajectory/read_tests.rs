@@ -223,3 +223,26 @@ fn errors_are_absolute_when_the_initial_value_is_zero() {
     assert_eq!((relative.energy[1], relative.angular_momentum[1]), (0.5, 0.5), "over |E₀| and |L₀|");
     assert!(InvariantErrors::of(&[]).energy.is_empty());
 }
+
+#[test]
+fn robot_links_are_checked_against_the_scene_and_named() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/double_pendulum.toml");
+    let world = scene::load(&path).unwrap().world;
+    let row = |name: &str| format!("0.0,{name},0,0,0,1,0,0,0,0,0,0,0,0,0\n");
+    let text = |names: &[&str]| format!("{CSV_HEADER}\n{}", names.iter().map(|n| row(n)).collect::<String>());
+    let links = ["pendulum/upper", "pendulum/lower", "pendulum/tip"];
+    let trajectory = read_text(&text(&links), Format::Csv).unwrap();
+    trajectory.check_bodies(&world, "t.csv", "dp.toml").unwrap();
+    assert_eq!(derived::invariants(&trajectory, &world, "t.csv", "dp.toml").unwrap().len(), 1);
+
+    let wrong = ["pendulum/upper", "pendulum/nolink", "pendulum/base", "pendulum/tip", "arm/link1"];
+    let err = read_text(&text(&wrong), Format::Csv).unwrap().check_bodies(&world, "t.csv", "dp.toml").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "t.csv: the trajectory does not match the scene: it has bodies that are not moving bodies of the scene \
+         dp.toml: `pendulum/nolink`, `pendulum/base`, `arm/link1`; and it lacks moving bodies of the scene \
+         dp.toml: `pendulum/lower`; robot `pendulum` has no moving link `nolink`, and `base` of robot `pendulum` \
+         is fixed to the world (never written) (its moving links: `upper`, `lower`, `tip`); the scene has no \
+         robot `arm` (its robots: `pendulum`)"
+    );
+}

@@ -26,7 +26,7 @@ use crate::integrate::Integrator;
 use crate::math::{quat_to_wxyz, DMat3, DQuat, DVec3};
 use crate::multibody::fk::{forward_kinematics, frame_x_world};
 use crate::multibody::spatial::{Force, Motion, Xform};
-use crate::multibody::{Control, LengthError, Method, MultibodyModel, Simulator, Workspace};
+use crate::multibody::{Control, Frame, LengthError, Method, MultibodyModel, Simulator, Workspace};
 
 /// A robot of the world: model, control, state and workspaces.
 #[derive(Debug, Clone)]
@@ -141,6 +141,13 @@ impl Robot {
     /// The names written in trajectories, `robot/link`, one per moving link.
     pub fn link_names(&self) -> &[String] {
         &self.link_names
+    }
+
+    /// The frame of moving link `k` (index into [`link_names`](Self::link_names)): its placement, its
+    /// body, and the link's own inertia in the link frame ([`Frame::inertia`]), the mass that a
+    /// trajectory row of the link carries.
+    pub fn link_frame(&self, k: usize) -> &Frame {
+        &self.model.frames[self.moving_frames[k]]
     }
 
     /// The state of moving link `k` (index into [`link_names`](Self::link_names)).
