@@ -116,6 +116,22 @@ fn a_scene_error_is_exit_2_with_file_line_column_and_nothing_written() {
 }
 
 #[test]
+fn a_gravity_scale_that_is_not_finite_is_exit_2_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = "version = 1\n\n[[body]]\nname = \"a\"\nmass = 1.0\ninertia = [1.0, 2.0, 3.0]\ngravity_scale = nan\n";
+    fs::write(dir.path().join("g.toml"), bad).unwrap();
+    for command in ["run", "check"] {
+        tumble(dir.path())
+            .args([command, "g.toml"])
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(predicate::str::starts_with("error: g.toml:7:17: body[0].gravity_scale: must be finite"));
+        assert_eq!(files(dir.path()), [PathBuf::from("g.toml")], "{command}");
+    }
+}
+
+#[test]
 fn flags_override_the_world_table() {
     let dir = tempfile::tempdir().unwrap();
     fs::write(dir.path().join("r.toml"), RUNAWAY.replace("torque_body = [0.0, 0.0, 1.05e12]", "")).unwrap();

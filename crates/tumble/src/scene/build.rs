@@ -33,6 +33,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     // name → (path, span) of the body that took it; `order` keeps the file's order for messages
     let mut names: HashMap<String, (String, Option<Range<usize>>)> = HashMap::with_capacity(doc.body.len());
     let mut order: Vec<String> = Vec::with_capacity(doc.body.len());
+    let gravity = config.gravity;
     for (i, entry) in doc.body.iter().enumerate() {
         let path = format!("body[{i}]");
         let name = body_name(src, &path, entry)?;
@@ -41,13 +42,13 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
         }
         names.insert(name.value.clone(), (format!("{path}.name"), name.span.clone()));
         order.push(name.value.clone());
-        let mut reader = BodyReader { src, path: &path, span: entry.span.as_ref(), warnings: &mut warnings };
+        let mut reader = BodyReader { src, path: &path, span: entry.span.as_ref(), warnings: &mut warnings, gravity };
         bodies.push(reader.read(&entry.value, name.value.clone())?);
     }
 
     let mut prefixes: HashMap<String, (String, Option<Range<usize>>)> = HashMap::new();
     for (g, entry) in doc.grid.iter().enumerate() {
-        let prefix = grid::expand(src, g, entry, &mut warnings, &mut bodies)?;
+        let prefix = grid::expand(src, g, entry, &mut warnings, &mut bodies, config.gravity)?;
         let name_loc = entry.value.body.value.name.as_ref();
         let span = name_loc.and_then(|l| l.span.clone());
         let path = format!("grid[{g}].body.name");

@@ -33,6 +33,8 @@ pub const MAX_BODIES: u64 = 10_000_000;
 pub const MAX_POSITION: f64 = 1e10;
 /// Largest initial speed (m/s).
 pub const MAX_SPEED: f64 = 1e8;
+/// Largest gravitational acceleration of a body, `|gravity_scale · g|` (m/s²): the bound on `[world]`'s gravity.
+pub const MAX_GRAVITY: f64 = 1e6;
 /// Largest initial angular speed (rad/s).
 pub const MAX_ANGULAR_SPEED: f64 = 1e8;
 /// Quaternions with `| |q| − 1 |` up to this are normalised silently (round-off in the file).

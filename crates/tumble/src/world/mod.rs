@@ -238,7 +238,7 @@ impl World {
             if save {
                 scratch.before = body.state;
             }
-            let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
+            let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: body.gravity(config.gravity) };
             let advanced = advance_body(
                 config.integrator,
                 config.tolerances,
