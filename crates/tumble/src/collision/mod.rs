@@ -22,6 +22,9 @@
 //! References: parry's `contact_manifolds`; D. Baraff, "Dynamic simulation of non-penetrating rigid
 //! bodies" (1992), ch. 6 (sort and sweep).
 
+mod overlap;
+pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
+
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};

@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 pub const MAX_LISTED_BODIES: usize = 50;
 
 /// A number with 7 significant digits at most, trailing zeros trimmed.
-fn g(x: f64) -> String {
+pub(crate) fn g(x: f64) -> String {
     if x == 0.0 {
         return "0".to_string();
     }

@@ -1,6 +1,7 @@
 //! The world: bodies, configuration and the step.
 
 use crate::body::{BodyState, RigidBody};
+use crate::collision::Overlap;
 use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
@@ -220,6 +221,16 @@ impl World {
     /// Collisions resolved since the start.
     pub fn contact_collisions(&self) -> u64 {
         self.contact.impacts
+    }
+
+    /// The pairs of bodies that overlap deeply now (see [`crate::collision::Overlap`] for the
+    /// threshold), sorted by pair; none when contacts are off. The scene loader reports them as
+    /// warnings; the contact stage pushes them apart at up to `max_correction_speed`.
+    pub fn deep_overlaps(&mut self) -> Vec<Overlap> {
+        if !self.config.contact.enabled {
+            return Vec::new();
+        }
+        self.contact.colliders_mut(&self.bodies).deep_overlaps(&self.bodies, self.config.contact.slop)
     }
 
     /// The contact stage (contacts of the last step, collision shapes, collisions so far).
