@@ -264,6 +264,23 @@ fn new_bar(total: u64) -> ProgressBar {
     bar
 }
 
+/// `flipper 4 (every 6.4213 s; exact 2K/λ = 6.4213 s)`, `box 0 (until its first contact at 0.62 s)`.
+fn flip_text(f: &tumble::trajectory::FlipSummary) -> String {
+    let mut notes = Vec::new();
+    match (f.mean_interval, f.exact_interval) {
+        (Some(mean), Some(exact)) => notes.push(format!("every {mean:.4} s; exact 2K/λ = {exact:.4} s")),
+        (Some(mean), None) => notes.push(format!("every {mean:.4} s")),
+        _ => {}
+    }
+    if let Some(t) = f.counted_until {
+        notes.push(format!("until its first contact at {t:.2} s"));
+    }
+    match notes.is_empty() {
+        true => format!("{} {}", f.body, f.flips),
+        false => format!("{} {} ({})", f.body, f.flips, notes.join("; ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,22 +325,5 @@ mod tests {
         std::thread::sleep(Duration::from_millis(60));
         assert!(t.tick(2048).out_of_time);
         assert!(!Ticker::new(10, 1, false).tick(1024).out_of_time, "no limit");
-    }
-}
-
-/// `flipper 4 (every 6.4213 s; exact 2K/λ = 6.4213 s)`, `box 0 (until its first contact at 0.62 s)`.
-fn flip_text(f: &tumble::trajectory::FlipSummary) -> String {
-    let mut notes = Vec::new();
-    match (f.mean_interval, f.exact_interval) {
-        (Some(mean), Some(exact)) => notes.push(format!("every {mean:.4} s; exact 2K/λ = {exact:.4} s")),
-        (Some(mean), None) => notes.push(format!("every {mean:.4} s")),
-        _ => {}
-    }
-    if let Some(t) = f.counted_until {
-        notes.push(format!("until its first contact at {t:.2} s"));
-    }
-    match notes.is_empty() {
-        true => format!("{} {}", f.body, f.flips),
-        false => format!("{} {} ({})", f.body, f.flips, notes.join("; ")),
     }
 }

@@ -60,6 +60,12 @@ fn the_table_reports_the_run_and_the_demo_flips() {
     assert!(stdout.contains("flipper 2 (every 6.4"), "{stdout}");
     assert!(stdout.contains("exact 2K/λ = 6.4506 s), stable 0"), "{stdout}");
     assert!(stdout.contains("12000"), "{stdout}");
+    // the thrown box is watched until it lands; the landings are accounted for
+    assert!(stdout.contains("box 0 (until its first contact at 0.86 s)"), "{stdout}");
+    for label in ["collisions", "friction, resting contact", "energy balance             E₀ − E − lost = "] {
+        assert!(stdout.contains(label), "{label} missing from:\n{stdout}");
+    }
+    assert!(stdout.contains("contacts took energy out"), "{stdout}");
     assert!(!stdout.to_lowercase().contains("nan"), "{stdout}");
 }
 
