@@ -37,6 +37,7 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
                 .linvel(b.state.velocity)
                 .angvel(b.state.omega_world())
                 .additional_mass_properties(mass)
+                .gravity_scale(b.gravity_scale)
                 .can_sleep(false);
             handles.push(Some(rw.insert_body(body)));
             continue;
@@ -71,6 +72,7 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
             .pose(pose)
             .linvel(b.state.velocity)
             .angvel(b.state.omega_world())
+            .gravity_scale(b.gravity_scale)
             .can_sleep(false);
         let (handle, _) = rw.insert(body, collider);
         handles.push(Some(handle));

@@ -100,7 +100,8 @@ pub struct DynamicsArgs {
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// Scene file (.toml or .json). Without it, the built-in demo: a body spun near its intermediate
-    /// axis, flipping over and over, beside one spun about its largest axis.
+    /// axis, flipping over and over, beside one spun about its largest axis, above a floor on which
+    /// four thrown bodies land.
     pub scene: Option<PathBuf>,
 
     /// Simulated time in seconds (overrides [world] duration).

@@ -79,17 +79,34 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     let body_steps = (s.free_bodies as f64) * (s.steps as f64);
     let rate = if s.wall_time_s > 0.0 { format!("{:.3e}", body_steps / s.wall_time_s) } else { "-".into() };
     row("body-steps/s", rate);
-    row("energy error", error_text(s.energy.max_relative_error, s.energy.error_is_absolute, "J"));
-    row(
-        "angular momentum error",
-        error_text(s.angular_momentum.max_relative_error, s.angular_momentum.error_is_absolute, "kg·m²/s"),
-    );
+    let c = &s.contact;
+    let contacts = c.collisions > 0 || c.energy_lost_in_friction != 0.0;
+    let mut energy = error_text(s.energy.max_relative_error, s.energy.error_is_absolute, "J");
+    let mut momentum =
+        error_text(s.angular_momentum.max_relative_error, s.angular_momentum.error_is_absolute, "kg·m²/s");
+    if contacts {
+        energy = note(&energy, "contacts took energy out: see the balance below");
+        if s.bodies > s.free_bodies {
+            momentum = note(&momentum, "the fixed bodies' contact impulses change it");
+        }
+    }
+    row("energy error", energy);
+    row("angular momentum error", momentum);
     let flips = if s.flips.is_empty() {
         "- (no moving body has three distinct principal moments)".to_string()
     } else {
         s.flips.iter().map(flip_text).collect::<Vec<_>>().join(", ")
     };
     row("flips (intermediate axis)", flips);
+    if contacts {
+        row("collisions", format!("{} ({} J lost)", c.collisions, joules(c.energy_lost_in_collisions)));
+        row("friction, resting contact", format!("{} J lost", joules(c.energy_lost_in_friction)));
+        let lost = c.energy_lost_in_collisions + c.energy_lost_in_friction;
+        let balance = s.energy.initial - s.energy.final_ - lost;
+        let share =
+            if lost > 0.0 { format!(" ({:.1e} of the energy lost)", balance.abs() / lost) } else { String::new() };
+        row("energy balance", format!("E₀ − E − lost = {} J{share}", joules(balance)));
+    }
     let kind = match format {
         Format::Csv => "CSV",
         Format::JsonLines => "JSON Lines",
@@ -99,6 +116,23 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
         row("summary", path.display().to_string());
     }
     t
+}
+
+/// `3.1e-12 (max relative; note)`: a note added inside the closing parenthesis.
+fn note(text: &str, note: &str) -> String {
+    match text.strip_suffix(')') {
+        Some(open) => format!("{open}; {note})"),
+        None => format!("{text} ({note})"),
+    }
+}
+
+/// An energy for people: `1303.2`, `0.0123` (J).
+fn joules(e: f64) -> String {
+    if e != 0.0 && e.abs() < 0.1 {
+        format!("{e:.2e}")
+    } else {
+        format!("{e:.1}")
+    }
 }
 
 /// A duration for people: `2.35 s`, `12.3 ms`, `85 µs`.
@@ -230,6 +264,23 @@ fn new_bar(total: u64) -> ProgressBar {
     bar
 }
 
+/// `flipper 4 (every 6.4213 s; exact 2K/λ = 6.4213 s)`, `box 0 (until its first contact at 0.62 s)`.
+fn flip_text(f: &tumble::trajectory::FlipSummary) -> String {
+    let mut notes = Vec::new();
+    match (f.mean_interval, f.exact_interval) {
+        (Some(mean), Some(exact)) => notes.push(format!("every {mean:.4} s; exact 2K/λ = {exact:.4} s")),
+        (Some(mean), None) => notes.push(format!("every {mean:.4} s")),
+        _ => {}
+    }
+    if let Some(t) = f.counted_until {
+        notes.push(format!("until its first contact at {t:.2} s"));
+    }
+    match notes.is_empty() {
+        true => format!("{} {}", f.body, f.flips),
+        false => format!("{} {} ({})", f.body, f.flips, notes.join("; ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,15 +326,4 @@ mod tests {
         assert!(t.tick(2048).out_of_time);
         assert!(!Ticker::new(10, 1, false).tick(1024).out_of_time, "no limit");
     }
-}
-
-/// `flipper 4 (every 6.4213 s; exact 2K/λ = 6.4213 s)`.
-fn flip_text(f: &tumble::trajectory::FlipSummary) -> String {
-    let mut text = format!("{} {}", f.body, f.flips);
-    match (f.mean_interval, f.exact_interval) {
-        (Some(mean), Some(exact)) => text += &format!(" (every {mean:.4} s; exact 2K/λ = {exact:.4} s)"),
-        (Some(mean), None) => text += &format!(" (every {mean:.4} s)"),
-        _ => {}
-    }
-    text
 }

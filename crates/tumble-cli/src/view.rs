@@ -33,7 +33,7 @@
 //! frame of the file, and the last one; see `tumble::trajectory::ReadOptions`), and the replay
 //! interpolates between the frames kept (positions linearly, orientations by normalised linear
 //! interpolation). Numbers are written with `f32` precision (7 significant digits). The demo (30 s,
-//! 2 bodies, 3001 samples) keeps 1501 frames and makes a file of about 220 kB.
+//! 6 moving bodies, 3001 samples) keeps 1501 frames and makes a file of about 540 kB.
 
 use crate::cli::ViewArgs;
 use crate::error::{Failure, Status};

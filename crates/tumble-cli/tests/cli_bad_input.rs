@@ -96,7 +96,7 @@ fn an_unsupported_output_extension_is_rejected() {
 
 #[test]
 fn a_trajectory_that_would_exceed_10_gb_needs_force() {
-    // 1e9 steps of 2 bodies, every step written: ~600 GB
+    // 1e9 steps of 6 bodies, every step written: ~1.8 TB
     let stderr = bad_input(&["run", "--duration", "1e5", "--dt", "1e-4", "--sample-every", "1"]);
     assert!(stderr.contains("10 GB") && stderr.contains("--force"), "{stderr}");
 }

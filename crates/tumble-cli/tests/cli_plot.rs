@@ -30,8 +30,10 @@ fn an_svg_has_every_panel_with_units_and_a_legend() {
         .success();
     let svg = fs::read_to_string(dir.path().join("p.svg")).unwrap();
     for text in [
-        // E₀ of the demo: ½ (1·0.01² + 2·5² + 2.6·0.01²) + ½ (1·0.01² + 2·0.01² + 2.6·5²) J
-        "relative energy error (E − E₀)/|E₀|, moving bodies, E₀ = 57.50033 J",
+        // E₀ of the demo: the spinning pair's ½ (1·0.01² + 2·5² + 2.6·0.01²) + ½ (1·0.01² + 2·0.01² +
+        // 2.6·5²) = 57.50033 J (they float: no potential energy), plus the thrown bodies' kinetic
+        // energy and their potential energy m g z above z = 0
+        "relative energy error (E − E₀)/|E₀|, moving bodies, E₀ = 2108.338 J",
         "angular-momentum error |L − L₀|/|L₀| about the origin",
         "flipper: angular velocity in body axes",
         "stable: position of the centre of mass, world frame",
@@ -43,7 +45,8 @@ fn an_svg_has_every_panel_with_units_and_a_legend() {
     ] {
         assert!(svg.contains(text), "missing `{text}`");
     }
-    assert_eq!(svg.matches("time (s)").count(), 6, "six stacked panels");
+    // the two error panels, then ω_body and position of the first 4 bodies (the default)
+    assert_eq!(svg.matches("time (s)").count(), 10, "ten stacked panels");
 }
 
 #[test]
@@ -72,7 +75,7 @@ fn without_a_scene_only_the_kinematics_are_plotted() {
     tumble(dir.path()).args(["plot", csv.to_str().unwrap(), "--out", "p.svg"]).assert().success();
     let svg = fs::read_to_string(dir.path().join("p.svg")).unwrap();
     assert!(!svg.contains("energy error") && svg.contains("energy and angular momentum need --scene"));
-    assert_eq!(svg.matches("time (s)").count(), 4);
+    assert_eq!(svg.matches("time (s)").count(), 8, "ω_body and position of the first 4 bodies");
 }
 
 #[test]
@@ -148,7 +151,7 @@ fn run_plots_right_after_the_run() {
         .assert()
         .success();
     let svg = fs::read_to_string(dir.path().join("d.svg")).unwrap();
-    assert!(svg.contains("E₀ = 57.50033 J") && svg.contains("flipper: angular velocity in body axes"));
+    assert!(svg.contains("E₀ = 2108.338 J") && svg.contains("flipper: angular velocity in body axes"));
     // a bad plot file is refused before the run: nothing is written
     let fresh = tempfile::tempdir().unwrap();
     tumble(fresh.path())

@@ -116,6 +116,22 @@ fn a_scene_error_is_exit_2_with_file_line_column_and_nothing_written() {
 }
 
 #[test]
+fn a_gravity_scale_that_is_not_finite_is_exit_2_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = "version = 1\n\n[[body]]\nname = \"a\"\nmass = 1.0\ninertia = [1.0, 2.0, 3.0]\ngravity_scale = nan\n";
+    fs::write(dir.path().join("g.toml"), bad).unwrap();
+    for command in ["run", "check"] {
+        tumble(dir.path())
+            .args([command, "g.toml"])
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(predicate::str::starts_with("error: g.toml:7:17: body[0].gravity_scale: must be finite"));
+        assert_eq!(files(dir.path()), [PathBuf::from("g.toml")], "{command}");
+    }
+}
+
+#[test]
 fn flags_override_the_world_table() {
     let dir = tempfile::tempdir().unwrap();
     fs::write(dir.path().join("r.toml"), RUNAWAY.replace("torque_body = [0.0, 0.0, 1.05e12]", "")).unwrap();
@@ -164,6 +180,55 @@ fn warnings_are_shown_by_check_and_run_but_not_with_quiet() {
         .success()
         .stderr(predicate::str::starts_with("warning: w.toml:"));
     tumble(dir.path()).args(["run", "w.toml", "--duration", "0.01", "-q"]).assert().success().stdout("").stderr("");
+}
+
+/// Two unit cubes at rest, the second 0.7 m from the first: they overlap by 0.3 m.
+const OVERLAPPING: &str = r#"
+version = 1
+
+[world]
+gravity = [0.0, 0.0, 0.0]
+dt = 0.001
+duration = 2.0
+sample_every = 10
+
+[[body]]
+name = "left"
+mass = 1.0
+shape = { type = "box", half_extents = [0.5, 0.5, 0.5] }
+
+[[body]]
+name = "right"
+mass = 1.0
+shape = { type = "box", half_extents = [0.5, 0.5, 0.5] }
+position = [0.7, 0.0, 0.0]
+"#;
+
+#[test]
+fn bodies_overlapping_deeply_at_the_start_are_reported_and_separated_gently() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("o.toml"), OVERLAPPING).unwrap();
+    let warning = "warning: o.toml:19:12: body[1].position: body `right` overlaps body `left` by 0.3 m at the start";
+    tumble(dir.path()).args(["check", "o.toml"]).assert().success().stdout(contains(warning)).stderr("");
+    let output = tumble(dir.path()).args(["run", "o.toml"]).assert().success().get_output().clone();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(stderr.starts_with(warning), "{stderr}");
+    assert!(stderr.contains("max_correction_speed = 3 m/s"), "{stderr}");
+    // pushed apart by the split impulse, which moves the bodies without giving them speed
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("out/o.csv")).unwrap());
+    let (left, right) = (rows_of(&rows, "left"), rows_of(&rows, "right"));
+    for row in left.iter().chain(&right) {
+        let speed = (row.values[7..10].iter().map(|v| v * v).sum::<f64>()).sqrt();
+        assert!(speed < 3.0, "t = {}: {} moves at {speed} m/s", row.t, row.body);
+    }
+    for (l, r) in left.iter().zip(&right).skip(1) {
+        // no faster than max_correction_speed: each body takes half of the relative correction
+        let separation = r.values[0] - l.values[0];
+        assert!(separation - 0.7 <= 3.0 * r.t + 1e-9, "t = {}: separation {separation} m", r.t);
+    }
+    let (l, r) = (left.last().unwrap(), right.last().unwrap());
+    let separation = r.values[0] - l.values[0];
+    assert!((separation - 1.0).abs() < 2e-3, "the cubes end {separation} m apart (touching at 1 m)");
 }
 
 #[test]

@@ -44,10 +44,10 @@ fn the_demo_replay_is_one_small_offline_file() {
     view(dir.path(), &["demo.csv", "--scene", demo_scene().to_str().unwrap(), "--out", "r.html"]).success();
     let html = fs::read_to_string(dir.path().join("r.html")).unwrap();
     assert_eq!(external_references(&html), Vec::<String>::new(), "the page loads nothing");
-    assert!(html.len() < 400_000, "{} bytes", html.len());
+    assert!(html.len() < 800_000, "{} bytes", html.len());
     let data = data_of(&html);
     let bodies = data["bodies"].as_array().unwrap();
-    assert_eq!(bodies.len(), 2);
+    assert_eq!(bodies.len(), 7, "the floor too");
     assert_eq!(bodies[0]["name"], "flipper");
     assert_eq!(bodies[1]["index"], 1);
     assert_eq!(bodies[0]["parts"][0]["geometry"]["type"], "box");
@@ -59,12 +59,15 @@ fn the_demo_replay_is_one_small_offline_file() {
     assert_eq!(*times.last().unwrap(), 30.0);
     assert!(data["decimation"].as_str().unwrap().contains("1501 of 3001 frames"));
     let frames = data["frames"].as_array().unwrap();
-    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 14), "x, y, z, qw, qx, qy, qz of 2 bodies");
+    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 42), "x, y, z, qw, qx, qy, qz of 6 moving bodies");
     assert_eq!(frames[0][7], 4.0, "the stable box starts at x = 4 m");
     let energy = data["energy"]["values"].as_array().unwrap();
     assert_eq!(energy.len(), 1501);
     assert_eq!(energy[0], 0.0);
-    assert!(energy.iter().all(|e| e.as_f64().unwrap().abs() < 1e-6), "the splitting keeps the energy");
+    // the splitting keeps the energy until the first landing (t ≈ 0.75 s), then contacts take it out
+    let error = |k: usize| energy[k].as_f64().unwrap();
+    assert!((0..1501).filter(|&k| times[k] < 0.7).all(|k| error(k).abs() < 1e-9), "energy kept in flight");
+    assert!(error(1500) < -1.0, "the landings took energy out: {}", error(1500));
     assert!(data["truncated"].is_null());
 }
 
@@ -178,7 +181,11 @@ fn bad_input_is_exit_2_naming_what_is_wrong() {
     fs::write(dir.path().join("s.toml"), SHAPES).unwrap();
     view(dir.path(), &["d.csv", "--scene", "s.toml", "--out", "x.html"])
         .code(2)
-        .stderr(contains("`flipper`, `stable`").and(contains("`ball`, `pill`, `can`, `arm/link1 </script>`")));
+        // the demo's `ball` is in both; its other bodies are not in SHAPES, and SHAPES's others not in it
+        .stderr(
+            contains("not moving bodies of the scene s.toml: `flipper`, `stable`, `box`, `capsule`, `cylinder`;")
+                .and(contains("lacks moving bodies of the scene s.toml: `pill`, `can`, `arm/link1 </script>`")),
+        );
     fs::write(dir.path().join("cols.csv"), "t,body,x,y,z,vx,vy,vz,wx,wy,wz\n").unwrap();
     view(dir.path(), &["cols.csv", "--scene", scene, "--out", "x.html"])
         .code(2)

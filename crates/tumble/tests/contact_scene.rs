@@ -94,3 +94,59 @@ fn bodies_listed_in_no_collide_pass_through_each_other() {
     let err = load(&scene("no_collide = [\"bb\"]")).unwrap_err();
     assert!(err.contains("body[0].no_collide") && err.contains("did you mean `b`"), "{err}");
 }
+
+/// Two bodies `a` and `b`, the second at `position`, each written as `shape`, plus `extra` lines on `b`.
+fn pair(shape_a: &str, shape_b: &str, position: &str, extra: &str) -> String {
+    format!(
+        "version = 1\n[world]\ngravity = [0.0, 0.0, 0.0]\n\
+         [[body]]\nname = \"a\"\nmass = 1.0\nshape = {shape_a}\n\
+         [[body]]\nname = \"b\"\nmass = 1.0\nshape = {shape_b}\nposition = {position}\n{extra}\n"
+    )
+}
+
+#[test]
+fn deep_overlaps_at_the_start_are_warnings_naming_both_bodies_and_the_depth() {
+    let cube = "{ type = \"box\", half_extents = [0.5, 0.5, 0.5] }";
+    // 0.3 m of overlap: reported at b's position, with the depth and the threshold
+    let s = load(&pair(cube, cube, "[0.7, 0.0, 0.0]", "")).unwrap();
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    let w = &s.warnings[0];
+    assert!(w.starts_with("test.toml:12:12: body[1].position: body `b` overlaps body `a` by 0.3 m"), "{w}");
+    assert!(w.contains("deeper than 0.01 m") && w.contains("max_correction_speed = 3 m/s"), "{w}");
+    // 5 mm: below 1 cm, not reported; nor is any overlap when contacts are off or the pair excluded
+    assert!(load(&pair(cube, cube, "[0.995, 0.0, 0.0]", "")).unwrap().warnings.is_empty());
+    let off = pair(cube, cube, "[0.7, 0.0, 0.0]", "").replace("[world]\n", "[world]\ncontacts = false\n");
+    assert!(load(&off).unwrap().warnings.is_empty());
+    let excluded = pair(cube, cube, "[0.7, 0.0, 0.0]", "no_collide = [\"a\"]");
+    assert!(load(&excluded).unwrap().warnings.is_empty());
+    // small bodies: 10 % of the smaller bounding radius (a 5 cm ball 6 mm into the floor)
+    let floor = "version = 1\n[[body]]\nname = \"floor\"\nfixed = true\nshape = { type = \"plane\" }\n\
+                 [[body]]\nname = \"pebble\"\nmass = 0.1\nshape = { type = \"sphere\", radius = 0.05 }\n";
+    let s = load(&format!("{floor}position = [0.0, 0.0, 0.044]\n")).unwrap();
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("body `pebble` overlaps body `floor` by 0.006 m"), "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("deeper than 0.005 m"), "{:?}", s.warnings);
+    assert!(load(&format!("{floor}position = [0.0, 0.0, 0.046]\n")).unwrap().warnings.is_empty());
+    // grid copies are placed at their grid
+    let grid = "version = 1\n[[grid]]\ncount = [2, 1, 1]\nspacing = [0.5, 1.0, 1.0]\n[grid.body]\nname = \"g\"\n\
+                mass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n";
+    let s = load(grid).unwrap();
+    assert!(
+        s.warnings[0].contains("grid[0].body: body `g_1_0_0` overlaps body `g_0_0_0` by 0.5 m"),
+        "{:?}",
+        s.warnings
+    );
+}
+
+#[test]
+fn the_shared_scenes_start_without_deep_overlaps() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    for entry in std::fs::read_dir(&root).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let scene = tumble::scene::load(&path).unwrap();
+            let overlaps: Vec<&String> = scene.warnings.iter().filter(|w| w.contains("overlaps")).collect();
+            assert!(overlaps.is_empty(), "{}: {overlaps:?}", path.display());
+        }
+    }
+}

@@ -44,8 +44,16 @@ fn the_demo_is_the_intermediate_axis_flip() {
     assert_eq!(demo.world.bodies, from_file.world.bodies);
     assert_eq!(demo.world.config, from_file.world.config);
     let c = demo.world.config;
-    assert_eq!(c.gravity, DVec3::ZERO);
+    assert_eq!(c.gravity, DVec3::new(0.0, 0.0, -9.81));
     assert_eq!((c.duration, c.dt, c.sample_every), (30.0, 1e-3, 10));
+    // the flipping pair floats (its rotation is that of free fall), the others fall onto the floor
+    let names: Vec<&str> = demo.world.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, ["flipper", "stable", "floor", "box", "capsule", "cylinder", "ball"]);
+    assert_eq!(demo.world.bodies[0].gravity_scale, 0.0);
+    assert_eq!(demo.world.bodies[1].gravity_scale, 0.0);
+    assert!(demo.world.bodies[2].fixed);
+    assert!(demo.world.bodies[3..].iter().all(|b| b.gravity_scale == 1.0 && !b.fixed));
+    assert!(demo.warnings.is_empty(), "{:?}", demo.warnings);
     let flipper = &demo.world.bodies[0];
     let i = flipper.mass.inertia_body;
     assert!(i.x < i.y && i.y < i.z, "three distinct moments, intermediate about y: {i:?}");

@@ -116,6 +116,9 @@ pub struct RigidBody {
     pub shape: Option<Shape>,
     /// Contact material.
     pub material: Material,
+    /// Factor on the world's gravity for this body (any finite value, default 1): its gravitational
+    /// acceleration is `gravity_scale · g` ([`RigidBody::gravity`]).
+    pub gravity_scale: f64,
 }
 
 impl RigidBody {
@@ -129,7 +132,16 @@ impl RigidBody {
             fixed: false,
             shape: None,
             material: Material::default(),
+            gravity_scale: 1.0,
         }
+    }
+
+    /// The body's gravitational acceleration, `gravity_scale · g`, world frame (m/s²), from the
+    /// world's gravity `gravity_world` (m/s², world frame). Every stage that applies gravity to a
+    /// body goes through here (integration, contacts, potential energy).
+    #[inline]
+    pub fn gravity(&self, gravity_world: DVec3) -> DVec3 {
+        self.gravity_scale * gravity_world
     }
 
     /// Orientation `world_from_user`: the rotation of the axes the user gave (as written in files).
@@ -178,10 +190,11 @@ impl RigidBody {
             + 0.5 * s.omega_body.dot(self.mass.inertia_body * s.omega_body)
     }
 
-    /// Gravitational potential energy `−m g · x` (J), zero at the world origin.
+    /// Gravitational potential energy `−m g_body · x` (J), zero at the world origin, with the body's
+    /// own acceleration `g_body = gravity_scale · gravity` from the world's `gravity` (m/s², world frame).
     #[inline]
     pub fn potential_energy(&self, gravity: DVec3) -> f64 {
-        -self.mass.mass * gravity.dot(self.state.position)
+        -self.mass.mass * self.gravity(gravity).dot(self.state.position)
     }
 
     /// The inertia tensor in the world frame, `I_world = R I_body Rᵀ` (1.2) (kg·m²).

@@ -11,7 +11,7 @@
 //!    plane → `HalfSpace` (outward normal body +z).
 //! 2. **Broad phase**: sort and sweep along world x over each body's *swept* bounding box (its box
 //!    at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
-//!    ½|g| dt²`, `ρ` the bounding radius). Pairs of fixed bodies are never tested; planes (unbounded)
+//!    ½|g_body| dt²`, `ρ` the bounding radius, `g_body` the body's gravity `gravity_scale · g`). Pairs of fixed bodies are never tested; planes (unbounded)
 //!    are paired with every free body. Cost `O(n log n + k)` for `k` overlapping boxes.
 //! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
 //!    equal to the two bodies' sweeps, giving up to four points with their signed distance.
@@ -21,6 +21,9 @@
 //!
 //! References: parry's `contact_manifolds`; D. Baraff, "Dynamic simulation of non-penetrating rigid
 //! bodies" (1992), ch. 6 (sort and sweep).
+
+mod overlap;
+pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
 
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
@@ -182,8 +185,9 @@ impl Colliders {
     }
 
     /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
-    /// the distance they can close during `dt` (s) under `gravity` (m/s², world frame), plus `slop` (m) or
-    /// [`PREDICTION_MARGIN`], whichever is larger.
+    /// the distance they can close during `dt` (s) under `gravity` (the world's, m/s², world frame,
+    /// scaled by each body's `gravity_scale`), plus `slop` (m) or [`PREDICTION_MARGIN`], whichever
+    /// is larger.
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
         out.clear();
         // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
@@ -202,13 +206,15 @@ impl Colliders {
         self.sweeps.clear();
         self.order.clear();
         self.pairs.clear();
+        // ½ |g| dt², times each body's |gravity_scale|
         let fall = 0.5 * gravity.length() * dt * dt;
         for i in 0..n {
             let b = &bodies[i];
             let sweep = if b.fixed {
                 0.0
             } else {
-                (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt + fall
+                (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt
+                    + fall * b.gravity_scale.abs()
             };
             self.sweeps.push(sweep + 0.5 * slop);
             let aabb = match &self.shapes[i] {

@@ -245,8 +245,8 @@ impl ContactStage {
                 let c = self.contacts[ci];
                 let (a, b) = (c.a, c.b);
                 let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
-                let g_a = if bodies[a].fixed { DVec3::ZERO } else { gravity };
-                let g_b = if bodies[b].fixed { DVec3::ZERO } else { gravity };
+                let g_a = if bodies[a].fixed { DVec3::ZERO } else { bodies[a].gravity(gravity) };
+                let g_b = if bodies[b].fixed { DVec3::ZERO } else { bodies[b].gravity(gravity) };
                 let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
                 let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a));
                 let Some(t_c) = closing_time(c.gap, -u0.dot(c.normal_world), -(g_b - g_a).dot(c.normal_world), dt)
@@ -299,7 +299,7 @@ impl ContactStage {
         self.predicted.clear();
         for (b, sb) in bodies.iter().zip(self.bodies.iter_mut()) {
             if !b.fixed {
-                sb.accel = gravity + b.loads.force_world * b.mass.inv_mass;
+                sb.accel = b.gravity(gravity) + b.loads.force_world * b.mass.inv_mass;
             }
             self.predicted.push((sb.v, sb.w));
         }

@@ -7,7 +7,7 @@
 
 use super::error::{nearest, num, nums, SceneError, Source};
 use super::schema::{BodyDoc, Loc, PointForceDoc, ShapeDoc, Table, Vec3Doc};
-use super::{MAX_ANGULAR_SPEED, MAX_POSITION, MAX_SPEED, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
+use super::{MAX_ANGULAR_SPEED, MAX_GRAVITY, MAX_POSITION, MAX_SPEED, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::body::{Frame, MassProperties, Material, MeshShape, PointForce, RigidBody, Shape};
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::mesh::MeshLimits;
@@ -29,6 +29,8 @@ pub(crate) struct BodyReader<'r, 'a> {
     /// The body's table (TOML).
     pub span: Option<&'r Range<usize>>,
     pub warnings: &'r mut Vec<String>,
+    /// The world's gravity (m/s², world frame), to bound a body's `gravity_scale`.
+    pub gravity: DVec3,
 }
 
 impl BodyReader<'_, '_> {
@@ -107,6 +109,7 @@ impl BodyReader<'_, '_> {
             friction: self.ranged("friction", &doc.friction, |f| f >= 0.0, "must be ≥ 0")?,
         };
         self.loads(doc, &mut body)?;
+        body.gravity_scale = self.gravity_scale(doc)?;
         if fixed {
             self.reject_motion_of_fixed(doc)?;
         }
@@ -370,6 +373,19 @@ impl BodyReader<'_, '_> {
         Ok(Some(DQuat::from_xyzw(unit[1], unit[2], unit[3], unit[0])))
     }
 
+    /// `gravity_scale`: any finite factor (negative: the body falls upwards), with `|scale · g|`
+    /// within the bound on the world's gravity.
+    fn gravity_scale(&self, doc: &BodyDoc) -> Result<f64, SceneError> {
+        let Some(scale) = self.finite("gravity_scale", &doc.gravity_scale)? else { return Ok(1.0) };
+        let g = scale.abs() * self.gravity.length();
+        if let (Some(l), true) = (&doc.gravity_scale, g > MAX_GRAVITY) {
+            return Err(self
+                .err("gravity_scale", l, format!("gives |g| = {g:e} m/s², above the limit of {MAX_GRAVITY:e} m/s²"))
+                .got(num(scale)));
+        }
+        Ok(scale)
+    }
+
     /// Forces, torques, damping and point forces; `_body` vectors and points go to principal axes.
     fn loads(&self, doc: &BodyDoc, body: &mut RigidBody) -> Result<(), SceneError> {
         let body_from_user = body.mass.user_from_body.conjugate();
@@ -447,6 +463,11 @@ impl BodyReader<'_, '_> {
             if let Some(l) = loc.as_ref().filter(|l| l.value != 0.0) {
                 return Err(self.err(key, l, "a fixed body never moves, so this would be ignored").got(num(l.value)));
             }
+        }
+        if let Some(l) = doc.gravity_scale.as_ref().filter(|l| l.value != 1.0) {
+            return Err(self
+                .err("gravity_scale", l, "a fixed body never moves, so this would be ignored")
+                .got(num(l.value)));
         }
         if let Some(l) = doc.point_force.first() {
             return Err(self.err("point_force[0]", l, "a fixed body never moves, so this would be ignored"));

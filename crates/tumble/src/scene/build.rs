@@ -33,6 +33,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     // name → (path, span) of the body that took it; `order` keeps the file's order for messages
     let mut names: HashMap<String, (String, Option<Range<usize>>)> = HashMap::with_capacity(doc.body.len());
     let mut order: Vec<String> = Vec::with_capacity(doc.body.len());
+    let gravity = config.gravity;
     for (i, entry) in doc.body.iter().enumerate() {
         let path = format!("body[{i}]");
         let name = body_name(src, &path, entry)?;
@@ -41,13 +42,13 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
         }
         names.insert(name.value.clone(), (format!("{path}.name"), name.span.clone()));
         order.push(name.value.clone());
-        let mut reader = BodyReader { src, path: &path, span: entry.span.as_ref(), warnings: &mut warnings };
+        let mut reader = BodyReader { src, path: &path, span: entry.span.as_ref(), warnings: &mut warnings, gravity };
         bodies.push(reader.read(&entry.value, name.value.clone())?);
     }
 
     let mut prefixes: HashMap<String, (String, Option<Range<usize>>)> = HashMap::new();
     for (g, entry) in doc.grid.iter().enumerate() {
-        let prefix = grid::expand(src, g, entry, &mut warnings, &mut bodies)?;
+        let prefix = grid::expand(src, g, entry, &mut warnings, &mut bodies, config.gravity)?;
         let name_loc = entry.value.body.value.name.as_ref();
         let span = name_loc.and_then(|l| l.span.clone());
         let path = format!("grid[{g}].body.name");
@@ -75,6 +76,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     let mut world = World::new(config, bodies);
     world.robots = robots;
     collision_filters(src, &doc, &mut world)?;
+    overlap_warnings(src, &doc, &mut world, &mut warnings);
     Ok(Scene { world, origin, warnings })
 }
 
@@ -293,4 +295,43 @@ fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<
         }
     }
     Ok(())
+}
+
+/// A warning for each pair of bodies that overlaps deeply at the start (`World::deep_overlaps`),
+/// placed at the second body's `position` (or its table, or its grid).
+fn overlap_warnings(src: &Source, doc: &SceneDoc, world: &mut World, warnings: &mut Vec<String>) {
+    let max_speed = world.config.contact.max_correction_speed;
+    for o in world.deep_overlaps() {
+        let (path, span) = body_location(doc, o.b);
+        let text = format!(
+            "overlaps body `{}` by {} m at the start (deeper than {} m): the contacts push them apart at up to \
+             max_correction_speed = {} m/s",
+            world.bodies[o.a].name,
+            super::describe::g(o.depth),
+            super::describe::g(o.threshold),
+            super::describe::g(max_speed)
+        );
+        let text = format!("body `{}` {text}", world.bodies[o.b].name);
+        warnings.push(src.warning(span.as_ref(), &path, &text));
+    }
+}
+
+/// The field path and span that place body `index`: `body[i].position` (or `body[i]`), or the
+/// `grid[g].body` that made it.
+fn body_location(doc: &SceneDoc, index: usize) -> (String, Option<Range<usize>>) {
+    if let Some(entry) = doc.body.get(index) {
+        return match &entry.value.position {
+            Some(p) => (format!("body[{index}].position"), p.span.clone()),
+            None => (format!("body[{index}]"), entry.span.clone()),
+        };
+    }
+    let mut first = doc.body.len();
+    for (g, grid) in doc.grid.iter().enumerate() {
+        let count: u64 = grid.value.count.value.iter().product();
+        if ((index - first) as u64) < count {
+            return (format!("grid[{g}].body"), grid.value.body.span.clone());
+        }
+        first += count as usize;
+    }
+    (String::new(), None)
 }

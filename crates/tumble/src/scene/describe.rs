@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 pub const MAX_LISTED_BODIES: usize = 50;
 
 /// A number with 7 significant digits at most, trailing zeros trimmed.
-fn g(x: f64) -> String {
+pub(crate) fn g(x: f64) -> String {
     if x == 0.0 {
         return "0".to_string();
     }
@@ -68,7 +68,7 @@ pub(crate) fn describe(scene: &Scene) -> String {
     let fixed = w.bodies.iter().filter(|b| b.fixed).count();
     let _ = writeln!(out, "{} bodies ({} moving, {} fixed)", w.bodies.len(), w.bodies.len() - fixed, fixed);
     for body in w.bodies.iter().take(MAX_LISTED_BODIES) {
-        describe_body(&mut out, body);
+        describe_body(&mut out, body, c.gravity);
     }
     if w.bodies.len() > MAX_LISTED_BODIES {
         let _ = writeln!(out, "... and {} more bodies", w.bodies.len() - MAX_LISTED_BODIES);
@@ -82,7 +82,7 @@ pub(crate) fn describe(scene: &Scene) -> String {
     out
 }
 
-fn describe_body(out: &mut String, b: &RigidBody) {
+fn describe_body(out: &mut String, b: &RigidBody, gravity: DVec3) {
     let user_from_body = b.mass.user_from_body;
     let _ = writeln!(out, "body `{}`{}", b.name, if b.fixed { " (fixed)" } else { "" });
     if b.fixed {
@@ -165,6 +165,10 @@ fn describe_body(out: &mut String, b: &RigidBody) {
         loads.push(format!("force {} N ({frame}) at {} m (body axes)", v3(force), v3(user_from_body * pf.point_body)));
     }
     if !b.fixed {
+        if b.gravity_scale != 1.0 {
+            let g_body = b.gravity(gravity);
+            let _ = writeln!(out, "  gravity      {} × the world's = {} m/s²", g(b.gravity_scale), v3(g_body));
+        }
         let text = if loads.is_empty() { "none besides gravity".to_string() } else { loads.join("; ") };
         let _ = writeln!(out, "  loads        {text}");
     }

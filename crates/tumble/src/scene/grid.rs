@@ -80,6 +80,7 @@ pub(crate) fn expand(
     grid: &Loc<Table<GridDoc>>,
     warnings: &mut Vec<String>,
     bodies: &mut Vec<RigidBody>,
+    gravity: DVec3,
 ) -> Result<String, SceneError> {
     let doc = &grid.value;
     let path = format!("grid[{g}].body");
@@ -125,7 +126,7 @@ pub(crate) fn expand(
         }
     }
 
-    let mut reader = BodyReader { src, path: &path, span: template.span.as_ref(), warnings };
+    let mut reader = BodyReader { src, path: &path, span: template.span.as_ref(), warnings, gravity };
     let body = reader.read(&template.value, name.value.clone())?;
     for i in 0..nx {
         for j in 0..ny {

@@ -33,6 +33,8 @@ pub const MAX_BODIES: u64 = 10_000_000;
 pub const MAX_POSITION: f64 = 1e10;
 /// Largest initial speed (m/s).
 pub const MAX_SPEED: f64 = 1e8;
+/// Largest gravitational acceleration of a body, `|gravity_scale · g|` (m/s²): the bound on `[world]`'s gravity.
+pub const MAX_GRAVITY: f64 = 1e6;
 /// Largest initial angular speed (rad/s).
 pub const MAX_ANGULAR_SPEED: f64 = 1e8;
 /// Quaternions with `| |q| − 1 |` up to this are normalised silently (round-off in the file).
@@ -174,9 +176,10 @@ fn parse_json(src: &error::Source) -> Result<schema::SceneDoc, SceneError> {
     Ok(doc.0)
 }
 
-/// The built-in demo scene (`scenes/demo.toml`): in zero gravity, a box with principal moments
-/// 1, 2, 3 kg·m² spun near its intermediate axis, which flips every few seconds (the
-/// Dzhanibekov effect), beside the same box spun about its stable major axis.
+/// The built-in demo scene (`scenes/demo.toml`): a box with principal moments 1, 2, 2.6 kg·m² spun
+/// near its intermediate axis, which flips every few seconds (the Dzhanibekov effect), beside the
+/// same box spun about its stable major axis, both held in place by `gravity_scale = 0`; below
+/// them a floor, onto which a box, a capsule, a cylinder and a ball are thrown and come to rest.
 pub fn demo() -> Scene {
     // the embedded text is fixed at compile time and loaded by the tests
     from_str(DEMO_TOML, "<built-in demo>", Format::Toml).expect("the embedded demo scene is valid")

@@ -194,6 +194,8 @@ pub struct BodyDoc {
     pub linear_damping: Option<Loc<f64>>,
     /// 1/s.
     pub angular_damping: Option<Loc<f64>>,
+    /// Factor on the world's gravity for this body (default 1).
+    pub gravity_scale: Option<Loc<f64>>,
     /// Names of bodies this body never collides with.
     pub no_collide: Option<Loc<Vec<String>>>,
     /// `[[body.point_force]]`.

@@ -18,7 +18,9 @@
 //! `c` goes from `≥ +½` to `≤ −½` or back, that is, each time the intermediate axis turns from within
 //! 60° of `L` to within 60° of `−L`. The samples must be closer together than the flips for the count
 //! to be complete. A body with two equal moments (relative difference ≤ [`DISTINCT_MOMENTS_TOLERANCE`]
-//! of the largest) has no intermediate axis and no flip count.
+//! of the largest) has no intermediate axis and no flip count. Flips are counted until the body's
+//! first contact ([`World::first_contact_time`]): contacts change the angular momentum, and a body
+//! bouncing on the floor or lying on it (where `L` is round-off) would count flips that are none.
 use crate::analytic::AsymmetricTop;
 use crate::math::DVec3;
 use crate::world::World;
@@ -78,6 +80,9 @@ pub struct FlipCounter {
     /// The exact time between flips `2K(k)/λ` of the torque-free body from its initial state (s), when
     /// the body has no loads besides gravity (which exerts no torque about the centre of mass).
     pub exact_interval: Option<f64>,
+    /// The start of the step of the body's first contact (s): flips are counted until then, since a
+    /// contact changes the angular momentum (a box bouncing or at rest would count spurious flips).
+    pub counted_until: Option<f64>,
     /// The last alignment seen: +1 (with `L`), −1 (with `−L`), or 0 before the first.
     last_side: f64,
 }
@@ -95,7 +100,16 @@ impl FlipCounter {
 
     /// A counter for body `body` about `axis`, with no alignment seen yet.
     pub fn new(body: usize, axis: usize) -> Self {
-        Self { body, axis, count: 0, first_flip_time: 0.0, last_flip_time: 0.0, exact_interval: None, last_side: 0.0 }
+        Self {
+            body,
+            axis,
+            count: 0,
+            first_flip_time: 0.0,
+            last_flip_time: 0.0,
+            exact_interval: None,
+            counted_until: None,
+            last_side: 0.0,
+        }
     }
 
     /// The mean time between the flips seen (s): `(t_last − t_first)/(count − 1)`, from two flips on.
@@ -190,7 +204,13 @@ impl Monitor {
             self.max_angular_momentum_error = l_error;
         }
         for counter in &mut self.flips {
-            counter.observe(world.bodies[counter.body].angular_momentum_body(), world.time());
+            if counter.counted_until.is_some() {
+                continue;
+            }
+            counter.counted_until = world.first_contact_time(counter.body);
+            if counter.counted_until.is_none() {
+                counter.observe(world.bodies[counter.body].angular_momentum_body(), world.time());
+            }
         }
         self.last = now;
         self.last_time = world.time();

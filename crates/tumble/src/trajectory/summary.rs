@@ -10,7 +10,7 @@
 //! Fields added beyond the contract (never renamed): `energy.error_is_absolute` and
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
 //! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
-//! `robots` (only when the scene has robots).
+//! `robots` (only when the scene has robots), `flips[].counted_until` (the body's first contact, s).
 //! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
@@ -77,6 +77,9 @@ pub struct FlipSummary {
     /// The exact time between flips of the torque-free body, `2K(k)/λ` (s), when it has no loads.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exact_interval: Option<f64>,
+    /// The body's first contact (s), when it had one: flips are counted until then.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub counted_until: Option<f64>,
 }
 
 /// What a run did.
@@ -185,6 +188,7 @@ impl Summary {
                     mean_interval: c.mean_interval(),
                     // a body that never flipped only wobbles: its half-period is no flip interval
                     exact_interval: c.exact_interval.filter(|_| c.count > 0),
+                    counted_until: c.counted_until,
                 })
                 .collect(),
             scene: scene.to_string(),

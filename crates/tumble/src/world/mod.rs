@@ -1,6 +1,7 @@
 //! The world: bodies, configuration and the step.
 
 use crate::body::{BodyState, RigidBody};
+use crate::collision::Overlap;
 use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
@@ -134,6 +135,8 @@ pub struct World {
     pub robots: Vec<Robot>,
     /// Contact detection and response: buffers, warm-start impulses, dissipated energy.
     contact: ContactStage,
+    /// Per body, the step (0-based) in which it first had a contact, if any.
+    first_contact: Vec<Option<u64>>,
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -147,7 +150,15 @@ struct BodyScratch {
 impl World {
     /// A world with these settings and bodies, at `t = 0`.
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
-        Self { config, bodies, steps: 0, scratch: Vec::new(), robots: Vec::new(), contact: ContactStage::default() }
+        Self {
+            config,
+            bodies,
+            steps: 0,
+            scratch: Vec::new(),
+            robots: Vec::new(),
+            contact: ContactStage::default(),
+            first_contact: Vec::new(),
+        }
     }
 
     /// Steps taken so far.
@@ -178,6 +189,7 @@ impl World {
         self.save_states(contacts);
         if contacts {
             self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt);
+            self.note_first_contacts();
         }
         // a step that diverges is undone for the bodies whose states were saved
         if let Err((saved, diverged)) = self.integrate_free_bodies(!contacts) {
@@ -212,6 +224,24 @@ impl World {
         }
     }
 
+    /// Records the step of each body's first contact (the contacts the stage just found).
+    fn note_first_contacts(&mut self) {
+        if self.first_contact.len() != self.bodies.len() {
+            self.first_contact.resize(self.bodies.len(), None);
+        }
+        for c in self.contact.contacts() {
+            self.first_contact[c.a].get_or_insert(self.steps);
+            self.first_contact[c.b].get_or_insert(self.steps);
+        }
+    }
+
+    /// The start time (s) of the step in which body `index` first had a contact — touching,
+    /// overlapping or within the distance it could close in the step — or `None` if it never had one.
+    /// Until then a body moves freely (under gravity and its loads).
+    pub fn first_contact_time(&self, index: usize) -> Option<f64> {
+        self.first_contact.get(index).copied().flatten().map(|step| step as f64 * self.config.dt)
+    }
+
     /// Energy dissipated by contacts since the start (J).
     pub fn contact_energy(&self) -> ContactEnergy {
         self.contact.energy
@@ -220,6 +250,16 @@ impl World {
     /// Collisions resolved since the start.
     pub fn contact_collisions(&self) -> u64 {
         self.contact.impacts
+    }
+
+    /// The pairs of bodies that overlap deeply now (see [`crate::collision::Overlap`] for the
+    /// threshold), sorted by pair; none when contacts are off. The scene loader reports them as
+    /// warnings; the contact stage pushes them apart at up to `max_correction_speed`.
+    pub fn deep_overlaps(&mut self) -> Vec<Overlap> {
+        if !self.config.contact.enabled {
+            return Vec::new();
+        }
+        self.contact.colliders_mut(&self.bodies).deep_overlaps(&self.bodies, self.config.contact.slop)
     }
 
     /// The contact stage (contacts of the last step, collision shapes, collisions so far).
@@ -238,7 +278,7 @@ impl World {
             if save {
                 scratch.before = body.state;
             }
-            let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: config.gravity };
+            let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: body.gravity(config.gravity) };
             let advanced = advance_body(
                 config.integrator,
                 config.tolerances,
