@@ -214,12 +214,13 @@ fn bodies_overlapping_deeply_at_the_start_are_reported_and_separated_gently() {
     let stderr = String::from_utf8(output.stderr).unwrap();
     assert!(stderr.starts_with(warning), "{stderr}");
     assert!(stderr.contains("max_correction_speed = 3 m/s"), "{stderr}");
-    // pushed apart by the split impulse, which moves the bodies without giving them speed
+    // pushed apart by the contact spring, no faster than max_correction_speed; the relaxation takes
+    // back all but the last substep's push, so they part gently
     let rows = parse_csv(&fs::read_to_string(dir.path().join("out/o.csv")).unwrap());
     let (left, right) = (rows_of(&rows, "left"), rows_of(&rows, "right"));
     for row in left.iter().chain(&right) {
         let speed = (row.values[7..10].iter().map(|v| v * v).sum::<f64>()).sqrt();
-        assert!(speed < 3.0, "t = {}: {} moves at {speed} m/s", row.t, row.body);
+        assert!(speed < 0.5, "t = {}: {} moves at {speed} m/s", row.t, row.body);
     }
     for (l, r) in left.iter().zip(&right).skip(1) {
         // no faster than max_correction_speed: each body takes half of the relative correction
@@ -228,7 +229,8 @@ fn bodies_overlapping_deeply_at_the_start_are_reported_and_separated_gently() {
     }
     let (l, r) = (left.last().unwrap(), right.last().unwrap());
     let separation = r.values[0] - l.values[0];
-    assert!((separation - 1.0).abs() < 2e-3, "the cubes end {separation} m apart (touching at 1 m)");
+    // apart (touching at 1 m), drifting at what the last push left them
+    assert!(separation > 1.0 - 2e-3 && separation < 2.0, "the cubes end {separation} m apart");
 }
 
 #[test]
