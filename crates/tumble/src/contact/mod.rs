@@ -86,7 +86,7 @@ pub struct ContactEnergy {
     pub friction: f64,
 }
 
-type ContactKey = (usize, usize, u32, u32);
+type ContactKey = (usize, usize, u64, u64);
 
 /// The contact stage's buffers, kept from step to step (no allocation once grown).
 #[derive(Debug, Clone, Default)]
