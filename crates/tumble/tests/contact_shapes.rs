@@ -443,3 +443,75 @@ fn compounds_read_the_same_from_json_and_from_arrays_of_tables() {
     assert!((compound.center_of_mass_given - expected).length() < 1e-15, "{}", compound.center_of_mass_given);
     assert!((a.mass.mass - 2.0 * (v_box + v_tet)).abs() < 1e-15);
 }
+
+/// A table (a compound of a top and four legs) stands on the ground with a box on it: after they
+/// settle, neither moves by more than 1e-5 m in the next 5 s (the contacts of the four legs are
+/// warm-started by their own feature keys), and the box rests on the top.
+#[test]
+fn a_compound_table_stands_still_with_a_box_on_it() {
+    let leg = |x: f64, y: f64| {
+        format!("{{ type = \"box\", half_extents = [0.05, 0.05, 0.25], position = [{x}, {y}, 0.25] }},\n")
+    };
+    let text = format!(
+        "version = 1\n[world]\ndt = 0.001\n{GROUND}\
+         [[body]]\nname = \"table\"\ndensity = 600.0\nposition = [0.0, 0.0, 0.55]\n\
+         shapes = [\n{{ type = \"box\", half_extents = [0.5, 0.5, 0.05], position = [0.0, 0.0, 0.55] }},\n{}{}{}{}]\n\
+         [[body]]\nname = \"box\"\ndensity = 300.0\nposition = [0.1, -0.1, 0.9]\n\
+         shape = {{ type = \"box\", half_extents = [0.1, 0.1, 0.1] }}\n",
+        leg(0.4, 0.4),
+        leg(-0.4, 0.4),
+        leg(0.4, -0.4),
+        leg(-0.4, -0.4),
+    );
+    let mut world = load_str(&text).unwrap().world;
+    let Some(Shape::Compound(table)) = &body(&world, "table").shape else { panic!() };
+    // the top's volume 0.1 m³ at z = 0.55, four legs of 0.005 m³ at z = 0.25
+    let c = table.center_of_mass_given.z;
+    assert!((c - (0.1 * 0.55 + 0.02 * 0.25) / 0.12).abs() < 1e-15, "{c}");
+    run(&mut world, 3.0);
+    let before = (body(&world, "table").state, body(&world, "box").state);
+    run(&mut world, 5.0);
+    let (table, cube) = (body(&world, "table"), body(&world, "box"));
+    assert!((table.state.position.z - c).abs() < 1e-3, "the table's centre is at z = {}", table.state.position.z);
+    assert!((cube.state.position.z - 0.7).abs() < 1e-3, "the box rests at z = {}", cube.state.position.z);
+    for (b, start) in [(table, before.0), (cube, before.1)] {
+        let moved = (b.state.position - start.position).length();
+        let turned = b.state.orientation.angle_between(start.orientation);
+        assert!(moved < 1e-5 && turned < 1e-5, "{} moved {moved} m and turned {turned} rad", b.name);
+    }
+}
+
+/// A dumbbell lying across a fixed V groove (a compound against a triangle mesh: composite against
+/// composite) rolls down into it and rests with both balls on both walls.
+#[test]
+fn a_dumbbell_rests_across_a_fixed_groove() {
+    let v = extrude(&v_profile(), 0.5);
+    let cv = center_of_mass(&v);
+    let r = 0.1;
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let text = format!(
+        "version = 1\n[world]\ndt = 0.001\n\
+         [[body]]\nname = \"groove\"\nfixed = true\nposition = [{}, 0.0, {}]\nshape = {{ type = \"mesh\", file = \"v.obj\" }}\n\
+         [[body]]\nname = \"dumbbell\"\ndensity = 800.0\nposition = [0.12, 0.0, 0.8]\n\
+         shapes = [\n\
+           {{ type = \"sphere\", radius = {r}, position = [0.0, -0.3, 0.0] }},\n\
+           {{ type = \"sphere\", radius = {r}, position = [0.0, 0.3, 0.0] }},\n\
+           {{ type = \"capsule\", radius = 0.02, half_height = 0.3, orientation = [{s}, {}, 0.0, 0.0] }},\n\
+         ]\n",
+        cv.x,
+        cv.z,
+        -s
+    );
+    let (_dir, path) = scene_dir(&[("v.obj", v)], &text);
+    let mut world = scene::load(&path).unwrap().world;
+    run(&mut world, 6.0);
+    let b = body(&world, "dumbbell");
+    let groove = 0.2 + r * (13.0_f64).sqrt() / 3.0;
+    let axis = b.orientation_user() * DVec3::Y;
+    println!("dumbbell at {}, axis {axis}", b.state.position);
+    assert!(b.state.position.x.abs() < 1e-3 && (b.state.position.z - groove).abs() < 1e-3, "{}", b.state.position);
+    assert!(axis.y > 1.0 - 1e-6, "the bar is not along the groove: {axis}");
+    assert!(b.state.velocity.length() < 1e-2);
+    let contacts = world.contact_stage().contacts().to_vec();
+    assert_eq!(contacts.len(), 4, "each ball on both walls: {contacts:?}");
+}
