@@ -33,10 +33,11 @@ struct PairCache {
     step: u64,
 }
 
-/// The caches of the pairs with a composite shape, by `(first, second)` body index.
+/// The caches of the pairs with a composite shape, by `(first, second)` body index. (std's hasher:
+/// creating it allocates nothing, where ahash's allocates its process-wide seed at first use.)
 #[derive(Clone, Default)]
 pub(super) struct CompositePairs {
-    pairs: HashMap<(usize, usize), PairCache, ahash::RandomState>,
+    pairs: HashMap<(usize, usize), PairCache>,
     step: u64,
 }
 
