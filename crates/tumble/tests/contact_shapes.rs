@@ -43,8 +43,11 @@ fn v_profile() -> Profile {
     }
 }
 
+/// Vertices (m) and outward triangles of a mesh.
+type Mesh = (Vec<DVec3>, Vec<[u32; 3]>);
+
 /// The profile extruded along y over `[-half_depth, half_depth]`: a closed, outward mesh.
-fn extrude(profile: &Profile, half_depth: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+fn extrude(profile: &Profile, half_depth: f64) -> Mesh {
     let n = profile.corners.len() as u32;
     let mut vertices: Vec<DVec3> = profile.corners.iter().map(|&[x, z]| DVec3::new(x, -half_depth, z)).collect();
     vertices.extend(profile.corners.iter().map(|&[x, z]| DVec3::new(x, half_depth, z)));
@@ -63,7 +66,7 @@ fn extrude(profile: &Profile, half_depth: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 }
 
 /// Writes `mesh` as an OBJ file.
-fn write_obj(path: &Path, (vertices, triangles): &(Vec<DVec3>, Vec<[u32; 3]>)) {
+fn write_obj(path: &Path, (vertices, triangles): &Mesh) {
     let mut text = String::new();
     for v in vertices {
         text.push_str(&format!("v {} {} {}\n", v.x, v.y, v.z));
@@ -75,7 +78,7 @@ fn write_obj(path: &Path, (vertices, triangles): &(Vec<DVec3>, Vec<[u32; 3]>)) {
 }
 
 /// A scene file `scene.toml` with `text`, beside the meshes `(name, mesh)`, in a fresh directory.
-fn scene_dir(meshes: &[(&str, (Vec<DVec3>, Vec<[u32; 3]>))], text: &str) -> (tempfile::TempDir, PathBuf) {
+fn scene_dir(meshes: &[(&str, Mesh)], text: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     for (name, mesh) in meshes {
         write_obj(&dir.path().join(name), mesh);
@@ -218,7 +221,7 @@ fn outer(v: DVec3) -> DMat3 {
 }
 
 /// The centre of mass of an extruded profile, in the file's coordinates (m).
-fn center_of_mass(mesh: &(Vec<DVec3>, Vec<[u32; 3]>)) -> DVec3 {
+fn center_of_mass(mesh: &Mesh) -> DVec3 {
     let (m, _) = TriMesh::new(mesh.0.clone(), mesh.1.clone()).unwrap();
     m.mass_properties(1.0).unwrap().center_of_mass
 }
