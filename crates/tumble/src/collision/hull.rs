@@ -10,8 +10,9 @@
 //! the mesh); at most [`VHACD_MAX_PIECES`] pieces, which bounds the narrow-phase work of a pair;
 //! the rest parry's defaults (planes sampled every 4 voxels, approximate hulls while searching,
 //! flood fill from outside). Measured on the 2 304-triangle torus of the tests: 11 pieces whose
-//! volumes add to 4.7 % more than the torus, in 0.4–0.6 s (release build); the cost grows with
-//! the resolution (≈ 2.3 s at 128³), little with the triangle count.
+//! volumes add to 4.7 % more than the torus, in 0.2–0.6 s (release build, shared machine; figures in
+//! `docs/meshes.md`); the cost grows with the resolution (≈ 2.3 s at 128³), little with the
+//! triangle count (0.5 s for 36 864 triangles).
 
 use crate::body::ConvexPiece;
 use crate::math::DVec3;
