@@ -53,9 +53,11 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
             Shape::Cylinder { radius, half_height } => ColliderBuilder::cylinder(half_height, radius)
                 .rotation(DVec3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0)),
             Shape::Plane => ColliderBuilder::halfspace(rapier3d_f64::na::Unit::new_unchecked(Vector::Z)),
-            // tumble collides a mesh as its convex hull: so does the comparison
-            Shape::Mesh(ref mesh) => {
-                ColliderBuilder::convex_hull(mesh.mesh.vertices()).expect("a closed mesh has a hull")
+            // meshes (triangles when fixed; convex pieces or the hull when moving), convex hulls and
+            // compounds: the very parry shape tumble collides with (Rapier uses the same parry)
+            Shape::Mesh(_) | Shape::Convex(_) | Shape::Compound(_) => {
+                let (parry, offset) = tumble::collision::parry_shape(shape, b.fixed);
+                ColliderBuilder::new(parry).position(offset)
             }
         };
         let friction = b.material.friction.unwrap_or(contact.friction);

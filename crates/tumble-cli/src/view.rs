@@ -12,8 +12,8 @@
 //!   `orientation` `[w, x, y, z]`), and `parts` are `{geometry, position, orientation}` in the user's
 //!   body axes, `geometry` one of `sphere {radius}`, `box {half_extents}`, `capsule {radius,
 //!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
-//!   `convex_hull {vertices, triangles}`. A body without a shape gets its inertia-equivalent box
-//!   (`inertia_box: true`).
+//!   `convex_hull {vertices, triangles}` (a `convex` shape). A compound has one part per shape, at
+//!   its pose. A body without a shape gets its inertia-equivalent box (`inertia_box: true`).
 //! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's name and
 //!   `marker` whether it is drawn as a small sphere; the legend lists the links by robot. A moving
 //!   link's `index` is its trajectory row, which holds the **link frame's** pose (origin and
@@ -213,44 +213,77 @@ const MAX_DRAWN_TRIANGLES: usize = 50_000;
 /// (its mass properties are placeholders: nothing to draw).
 fn parts(body: &RigidBody) -> Option<String> {
     let identity = "\"position\":[0,0,0],\"orientation\":[1,0,0,0]";
-    let geometry = match body.shape {
-        Some(Shape::Sphere { radius }) => format!("{{\"type\":\"sphere\",\"radius\":{}}}", num(radius)),
-        Some(Shape::Box { half_extents }) => {
-            format!("{{\"type\":\"box\",\"half_extents\":{}}}", numbers(&half_extents.to_array()))
+    if let Some(Shape::Compound(ref compound)) = body.shape {
+        // each part at its pose in the body axes
+        let parts: Option<Vec<String>> = compound
+            .parts
+            .iter()
+            .map(|part| {
+                geometry(&part.shape).map(|g| {
+                    format!(
+                        "{{\"geometry\":{g},\"position\":{},\"orientation\":{}}}",
+                        numbers(&part.position.to_array()),
+                        numbers(&quat_to_wxyz(part.orientation))
+                    )
+                })
+            })
+            .collect();
+        if let Some(parts) = parts {
+            return Some(parts.join(","));
         }
-        Some(Shape::Capsule { radius, half_height }) => {
-            format!("{{\"type\":\"capsule\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
-        }
-        Some(Shape::Cylinder { radius, half_height }) => {
-            format!("{{\"type\":\"cylinder\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
-        }
-        Some(Shape::Plane) => "{\"type\":\"plane\"}".to_string(),
-        // a mesh is drawn as its triangles (file axes = body axes, about the centre of mass) while it
-        // stays small enough for the page; a larger one as its inertia-equivalent box
-        Some(Shape::Mesh(ref mesh)) if mesh.mesh.triangles().len() <= MAX_DRAWN_TRIANGLES => {
-            let mut g = String::from("{\"type\":\"mesh\",\"vertices\":[");
-            for (i, v) in mesh.mesh.vertices().iter().enumerate() {
-                g.push_str(if i > 0 { "," } else { "" });
-                g.push_str(&numbers(&v.to_array()));
-            }
-            g.push_str("],\"triangles\":[");
-            for (i, t) in mesh.mesh.triangles().iter().enumerate() {
-                let _ = write!(g, "{}[{},{},{}]", if i > 0 { "," } else { "" }, t[0], t[1], t[2]);
-            }
-            g.push_str("]}");
-            g
-        }
-        None if body.fixed => return None,
-        Some(Shape::Mesh(_)) | None => {
+    }
+    match body.shape.as_ref().and_then(geometry) {
+        Some(geometry) => Some(format!("{{\"geometry\":{geometry},{identity}}}")),
+        None if body.shape.is_none() && body.fixed => None,
+        None => {
             let (half_extents, user_from_body) = derived::inertia_equivalent_box(&body.mass);
-            return Some(format!(
+            Some(format!(
                 "{{\"geometry\":{{\"type\":\"box\",\"half_extents\":{}}},\"position\":[0,0,0],\"orientation\":{}}}",
                 numbers(&half_extents.to_array()),
                 numbers(&quat_to_wxyz(user_from_body))
-            ));
+            ))
         }
-    };
-    Some(format!("{{\"geometry\":{geometry},{identity}}}"))
+    }
+}
+
+/// The `geometry` object of a shape about its own centre, or `None` when it is drawn otherwise (a
+/// compound, part by part; a mesh too large for the page, as the inertia-equivalent box).
+fn geometry(shape: &Shape) -> Option<String> {
+    Some(match *shape {
+        Shape::Sphere { radius } => format!("{{\"type\":\"sphere\",\"radius\":{}}}", num(radius)),
+        Shape::Box { half_extents } => {
+            format!("{{\"type\":\"box\",\"half_extents\":{}}}", numbers(&half_extents.to_array()))
+        }
+        Shape::Capsule { radius, half_height } => {
+            format!("{{\"type\":\"capsule\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
+        }
+        Shape::Cylinder { radius, half_height } => {
+            format!("{{\"type\":\"cylinder\",\"radius\":{},\"half_height\":{}}}", num(radius), num(half_height))
+        }
+        Shape::Plane => "{\"type\":\"plane\"}".to_string(),
+        // a mesh is drawn as its triangles (file axes = body axes, about the centre of mass) while it
+        // stays small enough for the page, whatever it collides as (hull, convex pieces, triangles)
+        Shape::Mesh(ref mesh) if mesh.mesh.triangles().len() <= MAX_DRAWN_TRIANGLES => {
+            triangles("mesh", mesh.mesh.vertices(), mesh.mesh.triangles())
+        }
+        Shape::Convex(ref convex) => triangles("convex_hull", convex.hull.vertices(), convex.hull.triangles()),
+        Shape::Mesh(_) | Shape::Compound(_) => return None,
+    })
+}
+
+/// A `mesh` or `convex_hull` geometry object: vertices (m) and triangles (corner indices).
+fn triangles(kind: &str, vertices: &[tumble::math::DVec3], triangles: &[[u32; 3]]) -> String {
+    let mut g = format!("{{\"type\":\"{kind}\",\"vertices\":[");
+    for (i, v) in vertices.iter().enumerate() {
+        g.push_str(if i > 0 { "," } else { "" });
+        g.push_str(&numbers(&v.to_array()));
+    }
+    g.push_str("],\"triangles\":[");
+    for (i, t) in triangles.iter().enumerate() {
+        let _ = write!(g, "{}[{},{},{}]", if i > 0 { "," } else { "" }, t[0], t[1], t[2]);
+    }
+    g.push_str("]}");
+    g
 }
 
 /// A number with `f32` precision, as JSON (non-finite values, which a trajectory never holds, as 0).

@@ -143,3 +143,33 @@ fn a_step_that_makes_too_many_steps_is_named_with_its_value() {
     assert!(stderr.starts_with("error: --dt: duration/dt = 3e9 steps exceeds the cap"), "{stderr}");
     assert!(stderr.contains("(got 0.00000001)"), "{stderr}");
 }
+
+#[test]
+fn bad_convex_points_and_compounds_are_exit_2_naming_the_line_and_field() {
+    let cases = [
+        ("shape = { type = \"convex\", points = [[0, 0, 0], [1, 0, 0], [0, 1, 0]] }", "body[0].shape.points"),
+        ("shape = { type = \"convex\", points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]] }", "coplanar"),
+        (
+            "shape = { type = \"convex\", points = [[0, 0, 0], [1, 0, 0], [0, nan, 0], [0, 0, 1]] }",
+            "body[0].shape.points[2]",
+        ),
+        ("shapes = [{ type = \"plane\" }]", "body[0].shapes[0].type"),
+        (
+            "shape = { type = \"sphere\", radius = 1.0 }\nshapes = [{ type = \"sphere\", radius = 1.0 }]",
+            "body[0].shapes",
+        ),
+    ];
+    for (shape, expected) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("bad.toml");
+        fs::write(&scene, format!("version = 1\n[[body]]\nname = \"b\"\ndensity = 1.0\n{shape}\n")).unwrap();
+        for command in ["check", "run"] {
+            let output = common::tumble(dir.path()).args([command, "bad.toml"]).output().unwrap();
+            let stderr = String::from_utf8(output.stderr).unwrap();
+            assert_eq!(output.status.code(), Some(2), "{command} `{shape}`: {stderr}");
+            assert!(stderr.contains("bad.toml:5:") || stderr.contains("bad.toml:6:"), "{stderr}");
+            assert!(stderr.contains(expected), "{command} `{shape}`: no `{expected}` in {stderr}");
+            assert_eq!(files(dir.path()), vec![std::path::PathBuf::from("bad.toml")], "{command} wrote a file");
+        }
+    }
+}

@@ -366,3 +366,31 @@ fn a_link_or_robot_the_scene_lacks_is_named() {
         .stderr(contains("`flipper`, `stable`").and(contains("`pendulum/upper`, `pendulum/lower`, `pendulum/tip`")));
     assert!(!dir.path().join("x.html").exists());
 }
+
+/// A convex body is drawn as its hull; a compound as one part per shape, at its pose about the
+/// centre of mass.
+#[test]
+fn convex_and_compound_bodies_are_drawn_part_by_part() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "version = 1\n[world]\nduration = 0.1\n\n\
+                 [[body]]\nname = \"gem\"\ndensity = 1000.0\n\
+                 shape = { type = \"convex\", points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]] }\n\n\
+                 [[body]]\nname = \"dumbbell\"\ndensity = 1000.0\nposition = [3.0, 0.0, 0.0]\n\
+                 shapes = [\n  { type = \"sphere\", radius = 0.2, position = [-0.5, 0.0, 0.0] },\n\
+                 { type = \"sphere\", radius = 0.2, position = [0.5, 0.0, 0.0] },\n\
+                 { type = \"capsule\", radius = 0.05, half_height = 0.5, orientation = [0.7071067811865476, 0.0, 0.7071067811865476, 0.0] },\n]\n";
+    fs::write(dir.path().join("s.toml"), scene).unwrap();
+    tumble(dir.path()).args(["run", "s.toml", "--out", "s.csv", "--view", "s.html", "--quiet"]).assert().success();
+    let data = data_of(&fs::read_to_string(dir.path().join("s.html")).unwrap());
+    let gem = &data["bodies"][0]["parts"];
+    assert_eq!(gem.as_array().unwrap().len(), 1);
+    assert_eq!(gem[0]["geometry"]["type"], "convex_hull");
+    assert_eq!(gem[0]["geometry"]["vertices"].as_array().unwrap().len(), 4);
+    assert_eq!(gem[0]["geometry"]["triangles"].as_array().unwrap().len(), 4);
+    let parts = data["bodies"][1]["parts"].as_array().unwrap();
+    let kinds: Vec<&str> = parts.iter().map(|p| p["geometry"]["type"].as_str().unwrap()).collect();
+    assert_eq!(kinds, ["sphere", "sphere", "capsule"]);
+    assert_eq!(parts[0]["position"], serde_json::json!([-0.5, 0, 0]));
+    assert_eq!(parts[1]["position"], serde_json::json!([0.5, 0, 0]));
+    assert_eq!(parts[2]["orientation"], serde_json::json!([0.70710677, 0, 0.70710677, 0]));
+}

@@ -34,9 +34,8 @@ fn density_and_a_mesh_give_the_meshs_mass_properties() {
         "version = 1\n[[body]]\nname = \"part\"\ndensity = 500.0\nshape = { type = \"mesh\", file = \"torus.obj\" }\n";
     let (_dir, path) = scene_with(&["torus.obj"], text);
     let loaded = scene::load(&path).unwrap();
-    // a torus is concave: the only warning says it collides as its convex hull
-    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
-    assert!(loaded.warnings[0].contains("collides as its convex hull"), "{:?}", loaded.warnings);
+    // a torus is concave: on a moving body it collides as convex pieces, which needs no warning
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let body = &loaded.world.bodies[0];
     let p = mesh::mass_properties_of_file(&fixture("torus.obj"), [1.0; 3], 500.0, &MeshLimits::default()).unwrap().0;
     close("mass", body.mass.mass, p.mass, 1e-15, p.mass);
@@ -48,6 +47,9 @@ fn density_and_a_mesh_give_the_meshs_mass_properties() {
     let centred = shape.mesh.mass_properties(1.0).unwrap();
     assert!(centred.center_of_mass.length() < 1e-14, "{:?}", centred.center_of_mass);
     assert!(loaded.describe().contains("torus.obj: 2304 triangles"), "{}", loaded.describe());
+    assert!(shape.hull_excess > 0.5, "{}", shape.hull_excess);
+    let pieces = shape.decomposition.as_ref().expect("a concave moving mesh is decomposed");
+    assert!((2..=tumble::collision::VHACD_MAX_PIECES as usize).contains(&pieces.len()), "{}", pieces.len());
     let mut world = loaded.world;
     world.step().unwrap();
 }
@@ -123,8 +125,8 @@ fn json_scenes_take_meshes_too() {
     assert_eq!(scene::load(&path).unwrap().world.bodies[0].mass.mass, 16.0);
 }
 
-/// A convex mesh body (a cube) collides as its hull: dropped on a plane it comes to rest on a face,
-/// its centre of mass half a side above the plane; loading it gives no concavity warning.
+/// A convex mesh body (a cube) keeps its hull (no decomposition): dropped on a plane it comes to rest
+/// on a face, its centre of mass half a side above the plane; loading it gives no warning.
 #[test]
 fn a_convex_mesh_body_lands_and_rests_on_a_plane() {
     let text = "version = 1\n[world]\ndt = 0.005\n\n[[body]]\nname = \"ground\"\nfixed = true\n\
@@ -133,6 +135,9 @@ fn a_convex_mesh_body_lands_and_rests_on_a_plane() {
     let (_dir, path) = scene_with(&["cube.obj"], text);
     let loaded = scene::load(&path).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let Some(Shape::Mesh(shape)) = &loaded.world.bodies[1].shape else { panic!() };
+    assert!(shape.decomposition.is_none() && shape.hull_excess.abs() < 1e-12, "{}", shape.hull_excess);
+    assert!(loaded.describe().contains("collides as its convex hull"), "{}", loaded.describe());
     let mut world = loaded.world;
     for _ in 0..600 {
         world.step().unwrap();

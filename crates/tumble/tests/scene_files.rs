@@ -87,6 +87,11 @@ fn the_examples_in_the_format_doc_load() {
     assert_eq!(toml.world.bodies[0].name, "racket");
     let json = scene::from_str(&block("```json\n"), "doc.json", scene::Format::Json).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(json.world.bodies.len(), 1 + 8);
+    // the compound example, after `version = 1`
+    let compound =
+        format!("version = 1\n[[body]]\nname = \"dumbbell\"{}", block("```toml\n[[body]]\nname = \"dumbbell\""));
+    let dumbbell = scene::from_str(&compound, "doc.toml", scene::Format::Toml).unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(&dumbbell.world.bodies[0].shape, Some(tumble::body::Shape::Compound(c)) if c.parts.len() == 3));
 }
 
 /// The demo shows what it says: the box spun about its intermediate axis flips over and over in

@@ -8,9 +8,10 @@
 pub mod dynamics;
 pub mod mass;
 pub mod shape;
+pub mod solid;
 
 pub use mass::{MassError, MassProperties};
-pub use shape::{Material, MeshShape, Shape};
+pub use shape::{CompoundPart, CompoundShape, ConvexPiece, ConvexShape, Material, MeshShape, Shape, ShapeProblem};
 
 use crate::math::{DMat3, DQuat, DVec3};
 

@@ -1,9 +1,11 @@
-//! Shapes a body may have: for mass properties now, for collisions later.
+//! Shapes a body may have: for its mass properties and its collisions.
 //!
 //! Every shape is centred on the body's origin in the user's body axes; axes of capsules and
 //! cylinders are body z; a plane's normal is body +z (planes are for fixed bodies only); a mesh's
-//! vertices are moved so that its centre of mass is the origin, its axes are the file's.
+//! vertices, a convex hull's and a compound's parts are moved so that the centre of mass of the
+//! solid is the origin, its axes are the ones the file wrote it in.
 
+pub use super::solid::{CompoundPart, CompoundShape, ConvexShape, ShapeProblem};
 use crate::math::{DMat3, DVec3};
 use crate::mesh::{MeshProblem, TriMesh};
 use std::sync::Arc;
@@ -23,12 +25,17 @@ pub enum Shape {
     Plane,
     /// A closed triangle mesh read from a file (shared: copies of a body share one mesh).
     Mesh(Arc<MeshShape>),
+    /// The convex hull of points.
+    Convex(Arc<ConvexShape>),
+    /// Several shapes, each with its pose in the body (`shapes = [...]` in files).
+    Compound(Arc<CompoundShape>),
 }
 
 /// A solid bounded by a closed triangle mesh, and its mass properties per unit density.
 ///
-/// For collisions the contact code is to use `mesh`: its convex hull (or a convex decomposition)
-/// for a moving body, the triangles themselves for a fixed one.
+/// Collisions (see `collision::parry_shape`): a fixed body collides as the triangles themselves; a
+/// moving one as its convex decomposition when it has one ([`MeshShape::decomposition`]), else
+/// as the convex hull of its vertices.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeshShape {
     /// The file as written in the scene.
@@ -46,6 +53,18 @@ pub struct MeshShape {
     pub inertia_per_density: DMat3,
     /// Its eigenvalues, ascending (m⁵).
     pub principal_per_density: DVec3,
+    /// How much larger the convex hull of the vertices is than the solid, `V_hull / V − 1`.
+    pub hull_excess: f64,
+    /// Convex pieces covering the solid (body axes, m), which a moving body collides as: set for
+    /// a concave mesh on a moving body (see [`MeshShape::decompose`]); `None`: the hull.
+    pub decomposition: Option<Vec<ConvexPiece>>,
+}
+
+/// A convex polyhedron of a decomposition: its hull's vertices (m, body axes) and outward triangles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvexPiece {
+    pub vertices: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
 }
 
 impl MeshShape {
@@ -55,6 +74,7 @@ impl MeshShape {
         let p = mesh.mass_properties(1.0)?;
         p.body_mass()?;
         let centred = mesh.map_vertices(|v| v - p.center_of_mass);
+        let hull_excess = crate::collision::mesh_hull_excess(&centred, p.volume);
         Ok(Self {
             file: file.into(),
             scale,
@@ -63,7 +83,17 @@ impl MeshShape {
             volume: p.volume,
             inertia_per_density: p.inertia,
             principal_per_density: p.principal_moments,
+            hull_excess,
+            decomposition: None,
         })
+    }
+
+    /// Computes the convex decomposition a moving body collides as (see
+    /// `collision::convex_decomposition` for the method, its parameters and cost). A mesh whose
+    /// decomposition comes out empty keeps its hull.
+    pub fn decompose(&mut self) {
+        let pieces = crate::collision::convex_decomposition(&self.mesh);
+        self.decomposition = (!pieces.is_empty()).then_some(pieces);
     }
 }
 
@@ -77,12 +107,15 @@ impl Shape {
             Shape::Cylinder { .. } => "cylinder",
             Shape::Plane => "plane",
             Shape::Mesh(_) => "mesh",
+            Shape::Convex(_) => "convex",
+            Shape::Compound(_) => "compound",
         }
     }
 
     /// Mass (kg) and principal moments about the centre (kg·m², body axes) of the solid shape of
     /// density `rho` (kg/m³); `None` for a plane, which has no finite volume. A mesh's moments are
-    /// about its principal axes, which need not be the body axes: see [`Shape::inertia_tensor`].
+    /// about its principal axes, which need not be the body axes: see [`Shape::inertia_tensor`]
+    /// (so are a convex hull's and a compound's).
     pub fn mass_properties(&self, rho: f64) -> Option<(f64, DVec3)> {
         use super::mass::{solid_box, solid_capsule, solid_cylinder, solid_sphere};
         match *self {
@@ -92,14 +125,18 @@ impl Shape {
             Shape::Cylinder { radius, half_height } => Some(solid_cylinder(rho, radius, half_height)),
             Shape::Plane => None,
             Shape::Mesh(ref m) => Some((rho * m.volume, rho * m.principal_per_density)),
+            Shape::Convex(ref c) => Some((rho * c.volume, rho * c.principal_per_density)),
+            Shape::Compound(ref c) => Some((rho * c.volume, rho * c.principal_per_density)),
         }
     }
 
     /// Mass (kg) and inertia tensor about the centre of mass in body axes (kg·m²) of the solid
-    /// shape of density `rho` (kg/m³); `None` for a plane. Diagonal for every shape but a mesh.
+    /// shape of density `rho` (kg/m³); `None` for a plane. Diagonal for the primitive shapes.
     pub fn inertia_tensor(&self, rho: f64) -> Option<(f64, DMat3)> {
         match self {
             Shape::Mesh(m) => Some((rho * m.volume, rho * m.inertia_per_density)),
+            Shape::Convex(c) => Some((rho * c.volume, rho * c.inertia_per_density)),
+            Shape::Compound(c) => Some((rho * c.volume, rho * c.inertia_per_density)),
             _ => self.mass_properties(rho).map(|(mass, moments)| (mass, DMat3::from_diagonal(moments))),
         }
     }

@@ -8,13 +8,18 @@
 //! Stages:
 //! 1. **Shapes → parry shapes** ([`Colliders::new`], once): sphere → `Ball`, box → `Cuboid`,
 //!    capsule → `Capsule` (axis body z), cylinder → `Cylinder` (parry's axis is y: rotated to z),
-//!    plane → `HalfSpace` (outward normal body +z).
+//!    plane → `HalfSpace` (outward normal body +z), convex → `ConvexPolyhedron`, compound →
+//!    `Compound` of its parts; a mesh → `TriMesh` on a fixed body, else the `Compound` of its convex
+//!    decomposition when it has one, else its convex hull ([`parry_shape`]).
 //! 2. **Broad phase**: sort and sweep along world x over each body's *swept* bounding box (its box
 //!    at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
 //!    ½|g_body| dt²`, `ρ` the bounding radius, `g_body` the body's gravity `gravity_scale · g`). Pairs of fixed bodies are never tested; planes (unbounded)
 //!    are paired with every free body. Cost `O(n log n + k)` for `k` overlapping boxes.
 //! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
-//!    equal to the two bodies' sweeps, giving up to four points with their signed distance.
+//!    equal to the two bodies' sweeps, giving up to four points with their signed distance. A pair
+//!    of convex shapes (the common case) takes one convex–convex manifold; a pair with a compound
+//!    or a triangle mesh takes parry's composite manifolds (one per pair of touching sub-shapes,
+//!    module `composite`), with parry's workspace kept per pair from step to step.
 //!
 //! Frames: every output is in the world frame. A body's shape is placed by its `world_from_user`
 //! pose (shapes are given in the user's body axes, centred on the centre of mass).
@@ -24,13 +29,20 @@
 
 mod overlap;
 pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
+mod composite;
+mod hull;
+
+pub use hull::{
+    convex_decomposition, convex_hull, decomposition_parameters, mesh_hull_excess, VHACD_CONCAVITY, VHACD_MAX_PIECES,
+    VHACD_RESOLUTION,
+};
 
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 
 /// Manifold points closer than this (m) are one point.
 pub const DUPLICATE_DISTANCE: f64 = 1e-3;
@@ -52,8 +64,16 @@ pub struct Contact {
     pub normal_world: DVec3,
     /// Signed distance between the surfaces along the normal (m): negative when they overlap.
     pub gap: f64,
-    /// parry's feature ids of the two touching features, stable from step to step (for warm starting).
-    pub features: (u32, u32),
+    /// The two touching features, stable from step to step (for warm starting): parry's feature id
+    /// in the low 32 bits, the index of the sub-shape (part of a compound, triangle of a mesh; 0 for
+    /// a convex shape) in the high 32 bits.
+    pub features: (u64, u64),
+}
+
+/// A contact's feature key: the sub-shape's index above parry's feature id.
+#[inline]
+fn feature_key(subshape: u32, feature: u32) -> u64 {
+    (u64::from(subshape) << 32) | u64::from(feature)
 }
 
 /// The collision shapes of the bodies and the buffers of the broad and narrow phases (reused from
@@ -75,6 +95,10 @@ pub struct Colliders {
     order: Vec<usize>,
     pairs: Vec<(usize, usize)>,
     manifold: ContactManifold<(), ()>,
+    /// Whether each body's parry shape is composite (a compound or a triangle mesh).
+    composite: Vec<bool>,
+    /// parry's manifolds and workspace of each pair with a composite shape, kept across steps.
+    composite_pairs: composite::CompositePairs,
 }
 
 impl std::fmt::Debug for Colliders {
@@ -83,8 +107,9 @@ impl std::fmt::Debug for Colliders {
     }
 }
 
-/// The parry shape of a body's shape and its pose in the user's body axes.
-pub fn parry_shape(shape: &Shape) -> (SharedShape, Pose) {
+/// The parry shape of a body's shape and its pose in the user's body axes; `fixed` for a fixed
+/// body (a fixed mesh collides as its triangles, a moving one as convex pieces or its hull).
+pub fn parry_shape(shape: &Shape, fixed: bool) -> (SharedShape, Pose) {
     match *shape {
         Shape::Sphere { radius } => (SharedShape::ball(radius), Pose::IDENTITY),
         Shape::Box { half_extents: h } => (SharedShape::cuboid(h.x, h.y, h.z), Pose::IDENTITY),
@@ -95,25 +120,40 @@ pub fn parry_shape(shape: &Shape) -> (SharedShape, Pose) {
             (SharedShape::cylinder(half_height, radius), Pose::from_rotation(y_to_z))
         }
         Shape::Plane => (SharedShape::halfspace(DVec3::Z), Pose::IDENTITY),
-        // a mesh collides as its convex hull (its vertices are about the centre of mass, body axes)
-        Shape::Mesh(ref mesh) => (mesh_hull(&mesh.mesh), Pose::IDENTITY),
+        // a mesh's vertices are about the centre of mass, body axes
+        Shape::Mesh(ref mesh) => (mesh_shape(mesh, fixed), Pose::IDENTITY),
+        Shape::Convex(ref convex) => (hull::mesh_hull(&convex.hull), Pose::IDENTITY),
+        Shape::Compound(ref compound) => {
+            let parts = compound
+                .parts
+                .iter()
+                .map(|part| {
+                    let (shape, offset) = parry_shape(&part.shape, fixed);
+                    (Pose::from_parts(part.position, part.orientation) * offset, shape)
+                })
+                .collect();
+            (SharedShape::compound(parts), Pose::IDENTITY)
+        }
     }
 }
 
-/// The convex hull of a mesh's vertices (a checked mesh encloses a volume, so the hull exists; a
-/// degenerate one falls back to the bounding ball).
-fn mesh_hull(mesh: &crate::mesh::TriMesh) -> SharedShape {
-    SharedShape::convex_hull(mesh.vertices()).unwrap_or_else(|| {
-        let radius = mesh.vertices().iter().map(|v| v.length()).fold(0.0, f64::max);
-        SharedShape::ball(radius)
-    })
-}
-
-/// How much larger a mesh's convex hull is than the mesh (`V_hull / V_mesh − 1`): about 0 for a convex
-/// part; a concave part collides as if its hollows were filled.
-pub fn mesh_hull_excess(mesh: &crate::mesh::TriMesh, mesh_volume: f64) -> f64 {
-    let hull_volume = mesh_hull(mesh).mass_properties(1.0).mass();
-    hull_volume / mesh_volume - 1.0
+/// A mesh's parry shape: the triangles for a fixed body; for a moving one the compound of its
+/// convex pieces, or its hull.
+fn mesh_shape(mesh: &crate::body::MeshShape, fixed: bool) -> SharedShape {
+    if fixed {
+        // internal edges fixed: a body sliding over two triangles of one face is not bumped by their edge
+        let flags = TriMeshFlags::ORIENTED | TriMeshFlags::FIX_INTERNAL_EDGES;
+        let vertices = mesh.mesh.vertices().to_vec();
+        if let Ok(trimesh) = SharedShape::trimesh_with_flags(vertices, mesh.mesh.triangles().to_vec(), flags) {
+            return trimesh;
+        }
+    } else if let Some(pieces) = &mesh.decomposition {
+        let parts: Vec<_> = pieces.iter().filter_map(hull::piece_shape).map(|s| (Pose::IDENTITY, s)).collect();
+        if !parts.is_empty() {
+            return SharedShape::compound(parts);
+        }
+    }
+    hull::mesh_hull(&mesh.mesh)
 }
 
 impl Colliders {
@@ -130,6 +170,8 @@ impl Colliders {
             order: Vec::new(),
             pairs: Vec::new(),
             manifold: ContactManifold::new(),
+            composite: Vec::new(),
+            composite_pairs: composite::CompositePairs::default(),
         };
         c.rebuild(bodies);
         c
@@ -141,14 +183,18 @@ impl Colliders {
         self.shape_offsets.clear();
         self.planes.clear();
         self.radii.clear();
+        self.composite.clear();
+        self.composite_pairs.clear();
         for (i, body) in bodies.iter().enumerate() {
             let Some(shape) = &body.shape else {
                 self.shapes.push(None);
                 self.shape_offsets.push(Pose::IDENTITY);
                 self.radii.push(0.0);
+                self.composite.push(false);
                 continue;
             };
-            let (parry, offset) = parry_shape(shape);
+            let (parry, offset) = parry_shape(shape, body.fixed);
+            self.composite.push(parry.as_composite_shape().is_some());
             if matches!(shape, Shape::Plane) {
                 self.planes.push(i);
                 self.radii.push(0.0);
@@ -194,9 +240,14 @@ impl Colliders {
         self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
         let pairs = std::mem::take(&mut self.pairs);
         for &(i, j) in &pairs {
-            self.narrow_phase(bodies, i, j, out);
+            if self.composite[i] || self.composite[j] {
+                self.narrow_phase_composite(bodies, i, j, out);
+            } else {
+                self.narrow_phase(bodies, i, j, out);
+            }
         }
         self.pairs = pairs;
+        self.composite_pairs.end_step();
     }
 
     /// Sort and sweep along world x over the swept boxes; fills `self.pairs`.
@@ -259,7 +310,8 @@ impl Colliders {
         self.pairs.sort_unstable();
     }
 
-    /// parry's contact manifold between bodies `i` and `j`, appended to `out` in the world frame.
+    /// parry's contact manifold between bodies `i` and `j` (both convex), appended to `out` in the
+    /// world frame.
     fn narrow_phase(&mut self, bodies: &[RigidBody], i: usize, j: usize, out: &mut Vec<Contact>) {
         let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return };
         let pose_i = self.pose(bodies, i);
@@ -303,7 +355,7 @@ impl Colliders {
                 }
                 continue;
             }
-            let features = (c.fid1.0, c.fid2.0);
+            let features = (u64::from(c.fid1.0), u64::from(c.fid2.0));
             out.push(Contact { a: i, b: j, point_world, normal_world, gap: c.dist, features });
         }
     }

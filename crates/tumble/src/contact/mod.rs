@@ -99,7 +99,7 @@ pub struct ContactEnergy {
 struct Previous {
     a: usize,
     b: usize,
-    features: (u32, u32),
+    features: (u64, u64),
     point_world: DVec3,
     lambda: [f64; 3],
 }

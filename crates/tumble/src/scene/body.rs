@@ -5,21 +5,12 @@
 //! Orientation, `angular_velocity_body`, `force_body`, `torque_body` and point-force `point`s are
 //! converted here, once, from the user's axes to the principal axes.
 
-use super::error::{nearest, num, nums, SceneError, Source};
-use super::schema::{BodyDoc, Loc, PointForceDoc, ShapeDoc, Table, Vec3Doc};
+use super::error::{num, nums, SceneError, Source};
+use super::schema::{BodyDoc, Loc, PointForceDoc, Table, Vec3Doc};
 use super::{MAX_ANGULAR_SPEED, MAX_GRAVITY, MAX_POSITION, MAX_SPEED, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
-use crate::body::{Frame, MassProperties, Material, MeshShape, PointForce, RigidBody, Shape};
+use crate::body::{Frame, MassProperties, Material, PointForce, RigidBody, Shape};
 use crate::math::{DMat3, DQuat, DVec3};
-use crate::mesh::MeshLimits;
 use std::ops::Range;
-use std::path::Path;
-use std::sync::Arc;
-
-/// A mesh whose convex hull exceeds its volume by more than this fraction is reported as concave.
-const MESH_HULL_TOLERANCE: f64 = 0.01;
-
-/// The shape types, as written in files.
-pub(crate) const SHAPE_TYPES: [&str; 6] = ["sphere", "box", "capsule", "cylinder", "plane", "mesh"];
 
 /// Reads one body; errors name `path.key` (e.g. `body[3].mass`).
 pub(crate) struct BodyReader<'r, 'a> {
@@ -34,11 +25,11 @@ pub(crate) struct BodyReader<'r, 'a> {
 }
 
 impl BodyReader<'_, '_> {
-    fn at(&self, key: &str) -> String {
+    pub(super) fn at(&self, key: &str) -> String {
         format!("{}.{}", self.path, key)
     }
 
-    fn err<T>(&self, key: &str, loc: &Loc<T>, problem: impl Into<String>) -> SceneError {
+    pub(super) fn err<T>(&self, key: &str, loc: &Loc<T>, problem: impl Into<String>) -> SceneError {
         self.src.error(loc.span.as_ref(), self.at(key), problem)
     }
 
@@ -65,7 +56,7 @@ impl BodyReader<'_, '_> {
     }
 
     /// A vector that must be finite in every component.
-    fn finite3(&self, key: &str, loc: &Option<Vec3Doc>) -> Result<Option<DVec3>, SceneError> {
+    pub(super) fn finite3(&self, key: &str, loc: &Option<Vec3Doc>) -> Result<Option<DVec3>, SceneError> {
         match loc {
             Some(l) if l.value.iter().any(|x| !x.is_finite()) => {
                 Err(self.err(key, l, "must be finite").got(nums(&l.value)))
@@ -87,7 +78,7 @@ impl BodyReader<'_, '_> {
     /// Builds the body named `name` from `doc`.
     pub fn read(&mut self, doc: &BodyDoc, name: String) -> Result<RigidBody, SceneError> {
         let fixed = doc.fixed.as_ref().is_some_and(|f| f.value);
-        let shape = self.shape(doc)?;
+        let shape = self.shape(doc, fixed)?;
         if let (Some(Shape::Plane), Some(loc), false) = (&shape, &doc.shape, fixed) {
             return Err(self
                 .err("shape", loc, "a plane is for fixed bodies only (it has no finite volume or mass)")
@@ -114,113 +105,6 @@ impl BodyReader<'_, '_> {
             self.reject_motion_of_fixed(doc)?;
         }
         Ok(body)
-    }
-
-    fn shape(&mut self, doc: &BodyDoc) -> Result<Option<Shape>, SceneError> {
-        let Some(loc) = &doc.shape else { return Ok(None) };
-        let s = &loc.value;
-        let kind = s.kind.value.as_str();
-        let takes: &[&str] = match kind {
-            "sphere" => &["radius"],
-            "box" => &["half_extents"],
-            "capsule" | "cylinder" => &["radius", "half_height"],
-            "plane" => &[],
-            "mesh" => &["file", "scale"],
-            _ => {
-                let e = self.err("shape.type", &s.kind, "unknown shape type").got(format!("\"{kind}\""));
-                let list = SHAPE_TYPES.join(", ");
-                return Err(match nearest(kind, &SHAPE_TYPES) {
-                    Some(best) => e.hint(format!("did you mean `{best}`? (shape types: {list})")),
-                    None => e.hint(format!("shape types: {list}")),
-                });
-            }
-        };
-        let given = [
-            ("radius", s.radius.as_ref().map(|l| &l.span)),
-            ("half_extents", s.half_extents.as_ref().map(|l| &l.span)),
-            ("half_height", s.half_height.as_ref().map(|l| &l.span)),
-            ("file", s.file.as_ref().map(|l| &l.span)),
-            ("scale", s.scale.as_ref().map(|l| &l.span)),
-        ];
-        for (key, span) in given {
-            if let (Some(span), false) = (span, takes.contains(&key)) {
-                let takes = if takes.is_empty() { "nothing but `type`".to_string() } else { takes.join(", ") };
-                return Err(self
-                    .src
-                    .error(span.as_ref(), self.at(&format!("shape.{key}")), format!("a {kind} has no `{key}`"))
-                    .hint(format!("a {kind} takes: {takes}")));
-            }
-        }
-        if kind == "mesh" {
-            return self.mesh(s, loc).map(Some);
-        }
-        let size = |key: &str, l: &Option<Loc<f64>>| -> Result<f64, SceneError> {
-            let Some(l) = l else {
-                return Err(self.err("shape", loc, format!("a {kind} needs `{key}` (m)")));
-            };
-            if l.value.is_finite() && l.value > 0.0 {
-                Ok(l.value)
-            } else {
-                Err(self
-                    .err(&format!("shape.{key}"), l, format!("{kind} size must be finite and > 0 (m)"))
-                    .got(num(l.value)))
-            }
-        };
-        Ok(Some(match kind {
-            "sphere" => Shape::Sphere { radius: size("radius", &s.radius)? },
-            "box" => {
-                let Some(h) = &s.half_extents else {
-                    return Err(self.err("shape", loc, "a box needs `half_extents` (m)"));
-                };
-                if h.value.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
-                    return Err(self
-                        .err("shape.half_extents", h, "box half extents must be finite and > 0 (m)")
-                        .got(nums(&h.value)));
-                }
-                Shape::Box { half_extents: DVec3::from_array(h.value) }
-            }
-            "capsule" => {
-                Shape::Capsule { radius: size("radius", &s.radius)?, half_height: size("half_height", &s.half_height)? }
-            }
-            "cylinder" => Shape::Cylinder {
-                radius: size("radius", &s.radius)?,
-                half_height: size("half_height", &s.half_height)?,
-            },
-            _ => Shape::Plane,
-        }))
-    }
-
-    /// `shape = { type = "mesh", file = "...", scale = ... }`: the file is read, checked and measured
-    /// now; a relative path is taken from the scene file's directory. The mesh's warnings (an
-    /// inside-out mesh flipped, ...) become the scene's.
-    fn mesh(&mut self, s: &ShapeDoc, loc: &Loc<Table<ShapeDoc>>) -> Result<Shape, SceneError> {
-        let Some(file) = &s.file else {
-            return Err(self.err("shape", loc, "a mesh needs `file` (an .obj or .stl file)"));
-        };
-        let scale = s.scale.as_ref().map_or([1.0; 3], |l| l.value.0);
-        if let (Some(l), false) = (&s.scale, scale.iter().all(|x| x.is_finite() && *x > 0.0)) {
-            return Err(self.err("shape.scale", l, "mesh scale must be finite and > 0").got(nums(&scale)));
-        }
-        let path = Path::new(self.src.origin).parent().unwrap_or(Path::new("")).join(&file.value);
-        let loaded = crate::mesh::load(&path, scale, &MeshLimits::default())
-            .map_err(|e| self.err("shape.file", file, e.to_string()))?;
-        let shape = MeshShape::new(file.value.clone(), DVec3::from_array(scale), loaded.mesh)
-            .map_err(|e| self.err("shape.file", file, format!("{}: {e}", path.display())))?;
-        for w in loaded.warnings {
-            let text = format!("{}: {w}", path.display());
-            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("shape.file"), &text));
-        }
-        // contacts see a mesh as its convex hull: say so when that fills hollows
-        let excess = crate::collision::mesh_hull_excess(&shape.mesh, shape.volume);
-        if excess > MESH_HULL_TOLERANCE {
-            let text = format!(
-                "{}: the mesh is concave (its convex hull is {:.1}% larger): it collides as its convex hull",
-                path.display(),
-                100.0 * excess
-            );
-            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("shape.file"), &text));
-        }
-        Ok(Shape::Mesh(Arc::new(shape)))
     }
 
     /// The mass rules: `density` + shape → both; `mass` + `inertia`/`inertia_tensor` → as given;
@@ -269,7 +153,8 @@ impl BodyReader<'_, '_> {
             let Some((m, tensor)) = shape.and_then(|s| s.inertia_tensor(rho)) else {
                 let why = if shape.is_some() { "a plane has no volume" } else { "there is no shape" };
                 return Err(self.err("density", l, format!("cannot compute a mass from a density: {why}")).hint(
-                    "give a shape with a volume (sphere, box, capsule, cylinder, mesh), or `mass` and `inertia`",
+                    "give a shape with a volume (sphere, box, capsule, cylinder, mesh, convex, or `shapes`), \
+                     or `mass` and `inertia`",
                 ));
             };
             return MassProperties::from_tensor(m, tensor)
@@ -346,15 +231,20 @@ impl BodyReader<'_, '_> {
 
     /// `orientation = [w, x, y, z]`, `world_from_user`; see the tolerances in the module's constants.
     fn orientation(&mut self, doc: &BodyDoc) -> Result<Option<DQuat>, SceneError> {
-        let Some(l) = &doc.orientation else { return Ok(None) };
+        doc.orientation.as_ref().map(|l| self.quaternion("orientation", l)).transpose()
+    }
+
+    /// A unit quaternion `[w, x, y, z]` at `key`: normalised silently within
+    /// `QUAT_SILENT_TOLERANCE`, with a warning within `QUAT_WARN_TOLERANCE`, else an error.
+    pub(super) fn quaternion(&mut self, key: &str, l: &Loc<[f64; 4]>) -> Result<DQuat, SceneError> {
         let [w, x, y, z] = l.value;
         if l.value.iter().any(|c| !c.is_finite()) {
-            return Err(self.err("orientation", l, "must be finite (a quaternion [w, x, y, z])").got(nums(&l.value)));
+            return Err(self.err(key, l, "must be finite (a quaternion [w, x, y, z])").got(nums(&l.value)));
         }
         let norm = (w * w + x * x + y * y + z * z).sqrt();
         if norm == 0.0 {
             return Err(self
-                .err("orientation", l, "must be a unit quaternion [w, x, y, z], not zero")
+                .err(key, l, "must be a unit quaternion [w, x, y, z], not zero")
                 .got(nums(&l.value))
                 .hint("the identity (no rotation) is [1, 0, 0, 0]"));
         }
@@ -362,15 +252,15 @@ impl BodyReader<'_, '_> {
         let deviation = (norm - 1.0).abs();
         if deviation > QUAT_WARN_TOLERANCE {
             return Err(self
-                .err("orientation", l, format!("must be a unit quaternion [w, x, y, z] (|q| = {norm})"))
+                .err(key, l, format!("must be a unit quaternion [w, x, y, z] (|q| = {norm})"))
                 .got(nums(&l.value))
                 .hint(format!("normalised it is {}; write that if it is what you meant", nums(&unit))));
         }
         if deviation > QUAT_SILENT_TOLERANCE {
             let text = format!("not a unit quaternion (|q| = {norm}); normalised to {}", nums(&unit));
-            self.warnings.push(self.src.warning(l.span.as_ref(), &self.at("orientation"), &text));
+            self.warnings.push(self.src.warning(l.span.as_ref(), &self.at(key), &text));
         }
-        Ok(Some(DQuat::from_xyzw(unit[1], unit[2], unit[3], unit[0])))
+        Ok(DQuat::from_xyzw(unit[1], unit[2], unit[3], unit[0]))
     }
 
     /// `gravity_scale`: any finite factor (negative: the body falls upwards), with `|scale · g|`

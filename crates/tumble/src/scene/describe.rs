@@ -113,23 +113,19 @@ fn describe_body(out: &mut String, b: &RigidBody, gravity: DVec3) {
         );
     }
     if let Some(shape) = &b.shape {
-        let size = match *shape {
-            Shape::Sphere { radius } => format!("radius {} m", g(radius)),
-            Shape::Box { half_extents } => format!("half extents {} m", v3(half_extents)),
-            Shape::Capsule { radius, half_height } | Shape::Cylinder { radius, half_height } => {
-                format!("radius {} m, half height {} m", g(radius), g(half_height))
+        let _ = writeln!(out, "  shape        {} ({})", shape.type_name(), shape_text(shape, b.fixed));
+        if let Shape::Compound(c) = shape {
+            for (k, part) in c.parts.iter().enumerate() {
+                let _ = writeln!(
+                    out,
+                    "    part {k}     {} ({}) at {} m, orientation {} (body axes)",
+                    part.shape.type_name(),
+                    shape_text(&part.shape, b.fixed),
+                    v3(part.position),
+                    wxyz(part.orientation)
+                );
             }
-            Shape::Plane => "normal +z (body axes)".to_string(),
-            Shape::Mesh(ref m) => format!(
-                "{}: {} triangles, volume {} m³, centre of mass at {} m in the file's axes × scale {}",
-                m.file,
-                m.mesh.triangles().len(),
-                g(m.volume),
-                v3(m.center_of_mass_file),
-                v3(m.scale)
-            ),
-        };
-        let _ = writeln!(out, "  shape        {} ({size})", shape.type_name());
+        }
     }
     if let Some(e) = b.material.restitution {
         let _ = writeln!(out, "  restitution  {}", g(e));
@@ -171,5 +167,50 @@ fn describe_body(out: &mut String, b: &RigidBody, gravity: DVec3) {
         }
         let text = if loads.is_empty() { "none besides gravity".to_string() } else { loads.join("; ") };
         let _ = writeln!(out, "  loads        {text}");
+    }
+}
+
+/// A shape's sizes, and for meshes what contacts see (`fixed`: the body is fixed).
+fn shape_text(shape: &Shape, fixed: bool) -> String {
+    match *shape {
+        Shape::Sphere { radius } => format!("radius {} m", g(radius)),
+        Shape::Box { half_extents } => format!("half extents {} m", v3(half_extents)),
+        Shape::Capsule { radius, half_height } | Shape::Cylinder { radius, half_height } => {
+            format!("radius {} m, half height {} m", g(radius), g(half_height))
+        }
+        Shape::Plane => "normal +z (body axes)".to_string(),
+        Shape::Mesh(ref m) => {
+            let contacts = match (&m.decomposition, fixed) {
+                (_, true) => "collides as its triangles".to_string(),
+                (Some(pieces), false) => format!(
+                    "collides as {} convex pieces (its hull is {:.1}% larger)",
+                    pieces.len(),
+                    100.0 * m.hull_excess
+                ),
+                (None, false) => format!("collides as its convex hull ({:.1}% larger)", 100.0 * m.hull_excess),
+            };
+            format!(
+                "{}: {} triangles, volume {} m³, centre of mass at {} m in the file's axes × scale {}; {contacts}",
+                m.file,
+                m.mesh.triangles().len(),
+                g(m.volume),
+                v3(m.center_of_mass_file),
+                v3(m.scale)
+            )
+        }
+        Shape::Convex(ref c) => format!(
+            "hull of {} points: {} vertices, {} triangles, volume {} m³, centre of mass at {} m in the points' axes",
+            c.points_given,
+            c.hull.vertices().len(),
+            c.hull.triangles().len(),
+            g(c.volume),
+            v3(c.center_of_mass_given)
+        ),
+        Shape::Compound(ref c) => format!(
+            "{} parts, volume {} m³, centre of mass at {} m in the parts' axes",
+            c.parts.len(),
+            g(c.volume),
+            v3(c.center_of_mass_given)
+        ),
     }
 }

@@ -6,7 +6,8 @@
 //! module `robot`). Every float is checked to be finite, every physical quantity to be in range, unknown keys are rejected with the nearest valid key, and
 //! every error names the file, the line and column (TOML) or the field path (JSON), and the field.
 //!
-//! Modules: [`schema`] (the file as written), `build` (scene and world), `body` (one body), `grid`
+//! Modules: [`schema`] (the file as written), `build` (scene and world), `body` (one body), `shape`
+//! (its shape or compound), `grid`
 //! (the generator), [`error`] (messages), `describe` (the account printed by `tumble check`).
 
 mod body;
@@ -16,6 +17,7 @@ pub mod error;
 mod grid;
 mod robot;
 pub mod schema;
+mod shape;
 
 pub use error::{ErrorDetail, LineCol, SceneError};
 

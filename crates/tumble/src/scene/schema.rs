@@ -169,6 +169,8 @@ pub struct BodyDoc {
     /// Full symmetric tensor about the centre of mass, user's body axes (kg·m²), rows.
     pub inertia_tensor: Option<Loc<[[f64; 3]; 3]>>,
     pub shape: Option<Loc<Table<ShapeDoc>>>,
+    /// A compound: several shapes, each with its `position` and `orientation` (not with `shape`).
+    pub shapes: Option<Loc<Vec<Loc<Table<ShapeDoc>>>>>,
     /// Centre of mass, world frame (m).
     pub position: Option<Vec3Doc>,
     /// `world_from_user`, `[w, x, y, z]`.
@@ -203,7 +205,8 @@ pub struct BodyDoc {
     pub point_force: Vec<Loc<Table<PointForceDoc>>>,
 }
 
-/// `shape = { type = "...", ... }`; which sizes a type needs is checked when building.
+/// `shape = { type = "...", ... }`, or one part of `shapes = [...]`; which sizes a type needs is
+/// checked when building.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeDoc {
@@ -219,6 +222,12 @@ pub struct ShapeDoc {
     pub file: Option<Loc<String>>,
     /// Factor on the mesh file's coordinates: one number or one per axis (mesh).
     pub scale: Option<Loc<ScaleDoc>>,
+    /// Points whose convex hull is the shape (convex), m.
+    pub points: Option<Loc<Vec<Vec3Doc>>>,
+    /// A compound's part only: where the part's origin sits in the compound's coordinates (m).
+    pub position: Option<Vec3Doc>,
+    /// A compound's part only: `compound_from_part`, `[w, x, y, z]`.
+    pub orientation: Option<Loc<[f64; 4]>>,
 }
 
 /// `scale = 0.001` or `scale = [sx, sy, sz]`.
