@@ -354,18 +354,18 @@ impl ContactStage {
             for &(s, e) in &self.groups {
                 solver::warm_start_pair(&constraints[s..e], &mut self.bodies);
             }
-            for pass in [solver::Pass::Solve, solver::Pass::Relax] {
-                if pass == solver::Pass::Relax {
-                    for &i in &self.active {
-                        self.bodies[i].integrate_position(h);
-                    }
-                }
+            let mut sweep = |bodies: &mut [SolverBody], pass| {
                 for _ in 0..settings.iterations {
                     for &(s, e) in &self.groups {
-                        solver::solve_pair(&mut constraints[s..e], &mut self.bodies, pass, inv_h, slop, max_push);
+                        solver::solve_pair(&mut constraints[s..e], bodies, pass, inv_h, slop, max_push);
                     }
                 }
+            };
+            sweep(&mut self.bodies, solver::Pass::Solve);
+            for &i in &self.active {
+                self.bodies[i].integrate_position(h);
             }
+            sweep(&mut self.bodies, solver::Pass::Relax);
         }
         self.previous.clear();
         for (c, k) in self.contacts.iter().zip(&self.constraints) {

@@ -159,6 +159,15 @@ impl Motion {
     fn point_velocity(&self, r: DVec3) -> DVec3 {
         self.v + self.w.cross(r)
     }
+
+    /// Writes the velocities back to body `i`, marking it reached by an impulse if `touched`.
+    #[inline]
+    fn store(&self, bodies: &mut [SolverBody], i: usize, touched: bool) {
+        let body = &mut bodies[i];
+        body.v = self.v;
+        body.w = self.w;
+        body.touched |= touched;
+    }
 }
 
 /// Solves the constraints of one pair of bodies, all with the same `a` and `b` (one Gauss–Seidel
@@ -180,12 +189,8 @@ pub fn solve_pair(
         debug_assert!(k.a == a && k.b == b);
         any |= k.solve(&mut ma, &mut mb, pass, inv_h, slop, max_push);
     }
-    for (i, m) in [(a, ma), (b, mb)] {
-        let body = &mut bodies[i];
-        body.v = m.v;
-        body.w = m.w;
-        body.touched |= any;
-    }
+    ma.store(bodies, a, any);
+    mb.store(bodies, b, any);
 }
 
 /// Applies the accumulated impulses of the constraints of one pair of bodies (warm start).
@@ -201,12 +206,8 @@ pub fn warm_start_pair(constraints: &[Constraint], bodies: &mut [SolverBody]) {
             any = true;
         }
     }
-    for (i, m) in [(a, ma), (b, mb)] {
-        let body = &mut bodies[i];
-        body.v = m.v;
-        body.w = m.w;
-        body.touched |= any;
-    }
+    ma.store(bodies, a, any);
+    mb.store(bodies, b, any);
 }
 
 /// What a pass over the constraints does at points in touch.
