@@ -31,6 +31,7 @@ fn incline(theta: f64, mu: f64, t: f64) -> (f64, f64) {
 fn box_on_an_incline_sticks_when_mu_exceeds_tan_theta() {
     let theta: f64 = 20f64.to_radians();
     let (slid, _) = incline(theta, 1.2 * theta.tan(), 5.0);
+    eprintln!("incline 20°, μ = 1.2 tan θ: creep {slid:e} m in 5 s");
     assert!(slid.abs() < 1e-3, "creep {slid} m in 5 s");
 }
 
@@ -43,6 +44,7 @@ fn box_on_an_incline_slides_with_g_sin_minus_mu_cos() {
     let a = G * (theta.sin() - mu * theta.cos());
     let a_from_v = v / t;
     let a_from_s = 2.0 * slid / (t * t);
+    eprintln!("incline 30°, μ = 0.3: a from v {a_from_v:.5}, from s {a_from_s:.5}, expected {a:.5} m/s²");
     assert!((a_from_v - a).abs() < 0.01 * a, "acceleration from v: {a_from_v} vs {a} m/s²");
     assert!((a_from_s - a).abs() < 0.01 * a, "acceleration from s: {a_from_s} vs {a} m/s²");
 }
@@ -70,6 +72,7 @@ fn sliding_box_stops_after_v_squared_over_two_mu_g() {
     let (v0, mu) = (3.0, 0.4);
     let d = slide(v0, DVec3::X, mu).length();
     let expected = v0 * v0 / (2.0 * mu * G);
+    eprintln!("slide v0 = 3, μ = 0.4: stopped after {d:.5} m, expected {expected:.5} m");
     assert!((d - expected).abs() < 0.01 * expected, "stopped after {d} m, expected {expected} m");
 }
 
@@ -79,6 +82,7 @@ fn friction_is_isotropic_a_box_launched_at_30_degrees_keeps_its_direction() {
     let dir = DVec3::new(angle.cos(), angle.sin(), 0.0);
     let d = slide(3.0, dir, 0.4);
     let off = d.y.atan2(d.x) - angle;
+    eprintln!("slide at 30°: direction changed by {:e}°", off.to_degrees());
     assert!(off.abs().to_degrees() < 0.5, "direction changed by {}°", off.to_degrees());
 }
 
@@ -95,6 +99,11 @@ fn sliding_sphere_ends_rolling_at_five_sevenths() {
     }
     let s = w.bodies[1].state;
     let v = s.velocity.x;
+    eprintln!(
+        "sliding sphere: rolls at {v:.5} m/s, 5/7 v0 = {:.5} m/s, ω r = {:.5} m/s",
+        5.0 / 7.0 * v0,
+        (s.orientation * s.omega_body).y * r
+    );
     assert!((v - 5.0 / 7.0 * v0).abs() < 0.01 * 5.0 / 7.0 * v0, "rolls at {v} m/s, expected 5/7 v0");
     // rolling without slipping: v = ω r
     let omega = s.orientation * s.omega_body;

@@ -29,6 +29,7 @@ fn ten_boxes_stacked_stay_put_for_ten_seconds() {
     }
     let mut w = world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), bodies);
     let drift = run(&mut w, 10.0);
+    eprintln!("ten-box tower: worst displacement {drift:.5} m over 10 s");
     assert!(drift < 0.01, "a box moved {drift} m");
     let jitter = w.bodies.iter().map(|b| b.state.velocity.length()).fold(0.0, f64::max);
     assert!(jitter < 1e-3, "residual speed {jitter} m/s");
@@ -47,6 +48,7 @@ fn pyramid_ten_wide_stands_for_ten_seconds() {
     }
     let mut w = world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), bodies);
     let drift = run(&mut w, 10.0);
+    eprintln!("pyramid 10 wide: worst displacement {drift:.5} m over 10 s");
     assert!(drift < 0.01, "a box of the pyramid moved {drift} m");
 }
 
@@ -59,6 +61,11 @@ fn heavy_box_on_a_light_one_does_not_sink_in() {
         world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), vec![material(ground(DQuat::IDENTITY), 0.5, 0.0), light, heavy]);
     run(&mut w, 10.0);
     let gap = (w.bodies[2].state.position.z - 0.5) - (w.bodies[1].state.position.z + 0.5);
+    eprintln!(
+        "10:1 stack: overlap {:.2e} m; light box into the ground {:.2e} m",
+        -gap,
+        0.5 - w.bodies[1].state.position.z
+    );
     assert!(-gap < 1e-3, "the heavy box sank {} m into the light one", -gap);
     let floor = w.bodies[1].state.position.z - 0.5;
     assert!(-floor < 1e-3, "the light box sank {} m into the ground", -floor);
