@@ -2,20 +2,24 @@
 //!
 //! The contact stage runs before the free-body integration of each step (state at `t`, step `dt`):
 //!
-//! 1. **Impacts** ([`impact`], Mirtich 1996 §4 with Stronge's law): a contact whose surfaces close
-//!    within the step, `gap = w t + ½ α t²` for some `t_c ∈ [0, dt]` (`w` the approach speed, `α`
-//!    the approach acceleration from gravity), and whose approach speed at `t_c` exceeds
-//!    [`ContactSettings::impact_speed`], is a collision. Its impulse is computed from the velocities
-//!    at `t_c` and applied at once; the bodies' end-of-step positions are then shifted by `−Δv t_c`
-//!    (and rotations by `−Δω t_c`), which is exactly where a body that moved freely until `t_c` and
-//!    with the new velocity after it would be. Contacts are swept one at a time, again and again,
-//!    until none approaches (Mirtich's sequential view): momentum travels down a chain of touching
-//!    bodies as in a Newton's cradle.
+//! 1. **Impacts** ([`impact`], Mirtich 1996 §4 with Stronge's law; scheduled by `collisions`): a
+//!    contact whose surfaces close within the step along the bodies' motion — the parabola the
+//!    integrator will draw, `x + (v + λ a dt) t + ½ a t²` with its
+//!    [position lead](crate::Integrator::position_lead) `λ` — and whose approach speed then exceeds
+//!    [`ContactSettings::impact_speed`], is a collision. Collisions are resolved one at a time in
+//!    the order in which they happen (the earliest first; at one instant, in contact order), each
+//!    with the velocities at its time `t_c`; a body's end-of-step position is then shifted by
+//!    `−Δv t_c` (and its rotation by `−Δω t_c`), which is exactly where a body that moved freely
+//!    until `t_c` and with the new velocity after it would be, and the contacts of the two bodies
+//!    are timed again. So momentum travels down a chain of touching bodies as in a Newton's cradle
+//!    (Mirtich's sequential view), all at the instant of the strike.
 //! 2. **Resting contact** ([`solver`], Catto 2005/2006, the soft step of Box2D v3): every contact is
 //!    solved by sequential impulses with warm starting in [`ContactSettings::substeps`] substeps,
 //!    each one adding the external forces, solving with a soft spring that pushes overlapping bodies
 //!    apart, moving the bodies, and relaxing (solving again without the spring's bias, which so adds
-//!    no energy). A body the impulses reached ends the step where the substeps moved it; its
+//!    no energy). A speculative contact (surfaces apart at the start of the step) holds only
+//!    approaches slower than `impact_speed`: a faster one is a collision, which stage 1 resolves in
+//!    the step in which the surfaces meet. A body the impulses reached ends the step where the substeps moved it; its
 //!    velocity change is applied at the start of the step, so that the free-body integration ends
 //!    at the solver's velocity.
 //!
@@ -26,6 +30,7 @@
 //! `e = max(e_a, e_b)`; a body without a value takes the world's default. When both bodies give the
 //! same value the pair uses it.
 
+mod collisions;
 pub mod impact;
 pub mod solver;
 
@@ -119,6 +124,8 @@ pub struct ContactStage {
     groups: Vec<(usize, usize)>,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
     shifts: Vec<(DVec3, DVec3)>,
+    /// The collisions of the step in time order (stage 1's buffers).
+    sequence: collisions::Sequence,
     /// Where the substeps of the resting-contact solver moved each body they held: position (m)
     /// and orientation.
     held: Vec<Option<(DVec3, DQuat)>>,
@@ -163,8 +170,17 @@ impl ContactStage {
     }
 
     /// Detects the contacts of the step and changes the bodies' velocities by the impulses of
-    /// collisions and resting contacts (state at the start of the step; `gravity` m/s², `dt` s).
-    pub fn resolve(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+    /// collisions and resting contacts (state at the start of the step; `gravity` m/s², `dt` s;
+    /// `lead` the integrator's [`position_lead`](crate::Integrator::position_lead), which says
+    /// where the step will move the bodies).
+    pub fn resolve(
+        &mut self,
+        bodies: &mut [RigidBody],
+        settings: &ContactSettings,
+        gravity: DVec3,
+        dt: f64,
+        lead: f64,
+    ) {
         self.shifts.clear();
         self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
         self.held.clear();
@@ -183,8 +199,8 @@ impl ContactStage {
             self.previous.clear();
             return;
         }
-        self.load_bodies(bodies);
-        self.impacts(bodies, settings, gravity, dt);
+        self.load_bodies(bodies, gravity);
+        self.impacts(bodies, settings, dt, lead);
         self.resting(bodies, settings, gravity, dt);
     }
 
@@ -210,7 +226,9 @@ impl ContactStage {
         }
     }
 
-    fn load_bodies(&mut self, bodies: &[RigidBody]) {
+    /// The solver's copy of the bodies: inverse mass and world inverse inertia, velocities, and the
+    /// acceleration of the constant world forces, `s_g g + F_world/m` (m/s²).
+    fn load_bodies(&mut self, bodies: &[RigidBody], gravity: DVec3) {
         self.bodies.clear();
         self.positions.clear();
         for b in bodies {
@@ -219,6 +237,7 @@ impl ContactStage {
                 let r = DMat3::from_quat(b.state.orientation);
                 sb.inv_mass = b.mass.inv_mass;
                 sb.inv_inertia = crate::math::change_frame(r, DMat3::from_diagonal(b.mass.inv_inertia_body));
+                sb.accel = b.gravity(gravity) + b.loads.force_world * b.mass.inv_mass;
             }
             self.bodies.push(sb);
             self.positions.push(b.state.position);
@@ -235,54 +254,6 @@ impl ContactStage {
         }
     }
 
-    /// Stage 1: collisions, one contact at a time until none approaches faster than `impact_speed`.
-    fn impacts(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
-        let max_passes = 4 + 2 * self.contacts.len().min(64);
-        let mut any = false;
-        for _ in 0..max_passes {
-            let mut applied = false;
-            for ci in 0..self.contacts.len() {
-                let c = self.contacts[ci];
-                let (a, b) = (c.a, c.b);
-                let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
-                let g_a = if bodies[a].fixed { DVec3::ZERO } else { bodies[a].gravity(gravity) };
-                let g_b = if bodies[b].fixed { DVec3::ZERO } else { bodies[b].gravity(gravity) };
-                let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
-                let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a));
-                let Some(t_c) = closing_time(c.gap, -u0.dot(c.normal_world), -(g_b - g_a).dot(c.normal_world), dt)
-                else {
-                    continue;
-                };
-                let u = u0 + (g_b - g_a) * t_c;
-                if -u.dot(c.normal_world) <= settings.impact_speed {
-                    continue;
-                }
-                let k = collision_matrix(ba.inv_mass, ba.inv_inertia, r_a, bb.inv_mass, bb.inv_inertia, r_b);
-                let (mu, e) = combine(&bodies[a], &bodies[b], settings);
-                let Some(hit) = collide(k, c.normal_world, u, mu, e, settings.law) else { continue };
-                let p = hit.impulse_world;
-                for (i, r, sign) in [(a, r_a, -1.0), (b, r_b, 1.0)] {
-                    let sb = &mut self.bodies[i];
-                    let (dv, dw) = (sb.inv_mass * sign * p, sb.inv_inertia * r.cross(sign * p));
-                    sb.v += dv;
-                    sb.w += dw;
-                    self.shifts[i].0 -= dv * t_c;
-                    self.shifts[i].1 -= dw * t_c;
-                }
-                self.energy.collisions += hit.energy_lost;
-                self.impacts += 1;
-                applied = true;
-                any = true;
-            }
-            if !applied {
-                break;
-            }
-        }
-        if any {
-            self.store_velocities(bodies);
-        }
-    }
-
     /// Stage 2: resting contact by soft sequential impulses in substeps (see [`solver`]).
     fn resting(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
         let substeps = settings.substeps.max(1);
@@ -295,14 +266,9 @@ impl ContactStage {
         let soft = solver::Softness::new(settings.hertz.min(cap), settings.damping_ratio, h);
         let soft_fixed = solver::Softness::new((2.0 * settings.hertz).min(cap), settings.damping_ratio, h);
 
-        // the start-of-step velocities, and the acceleration of the constant world forces
+        // the velocities after the collisions
         self.predicted.clear();
-        for (b, sb) in bodies.iter().zip(self.bodies.iter_mut()) {
-            if !b.fixed {
-                sb.accel = b.gravity(gravity) + b.loads.force_world * b.mass.inv_mass;
-            }
-            self.predicted.push((sb.v, sb.w));
-        }
+        self.predicted.extend(self.bodies.iter().map(|sb| (sb.v, sb.w)));
         self.constraints.clear();
         for c in &self.contacts {
             let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
@@ -355,9 +321,10 @@ impl ContactStage {
                 solver::warm_start_pair(&constraints[s..e], &mut self.bodies);
             }
             let mut sweep = |bodies: &mut [SolverBody], pass| {
+                let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
                 for _ in 0..settings.iterations {
                     for &(s, e) in &self.groups {
-                        solver::solve_pair(&mut constraints[s..e], bodies, pass, inv_h, slop, max_push);
+                        solver::solve_pair(&mut constraints[s..e], bodies, &sweep);
                     }
                 }
             };
@@ -393,8 +360,13 @@ impl ContactStage {
             let b = &mut bodies[i];
             let (v0, w0) = self.predicted[i];
             let (dv, dw) = (sb.v - (v0 + sb.accel * dt), sb.w - w0);
-            // the mechanical energy before the contact impulses; `finish` counts what it lost
-            self.energy_before[i] = b.kinetic_energy() + b.potential_energy(gravity);
+            // the mechanical energy before the resting impulses; `finish` counts what it lost. After
+            // a collision the body moves as from its start position shifted by the collision's
+            // `−Δv t_c` with the new velocity: that motion's energy, or the shift's work against
+            // gravity, `m g·Δv t_c`, would be booked as resting loss
+            let shift = self.shifts[i].0;
+            self.energy_before[i] =
+                b.kinetic_energy() + b.potential_energy(gravity) - b.mass.mass * b.gravity(gravity).dot(shift);
             b.state.velocity += dv;
             let omega = b.state.omega_world() + dw;
             b.set_omega_world(omega);
@@ -432,25 +404,6 @@ pub fn combine(a: &RigidBody, b: &RigidBody, settings: &ContactSettings) -> (f64
     let mu = |body: &RigidBody| body.material.friction.unwrap_or(settings.friction);
     let e = |body: &RigidBody| body.material.restitution.unwrap_or(settings.restitution);
     ((mu(a) * mu(b)).sqrt(), e(a).max(e(b)))
-}
-
-/// The first time `t ∈ [0, dt]` (s) at which a gap `gap` (m) closes, `gap = w t + ½ α t²`, with
-/// approach speed `w` (m/s) and approach acceleration `α` (m/s²); `None` if it stays open.
-fn closing_time(gap: f64, w: f64, alpha: f64, dt: f64) -> Option<f64> {
-    if gap <= 0.0 {
-        return (w > 0.0).then_some(0.0);
-    }
-    let disc = w * w + 2.0 * alpha * gap;
-    if disc < 0.0 {
-        return None;
-    }
-    // the stable form of the smaller positive root, 2 gap / (w + √disc)
-    let denom = w + disc.sqrt();
-    if denom <= 0.0 {
-        return None;
-    }
-    let t = 2.0 * gap / denom;
-    (t <= dt).then_some(t)
 }
 
 /// Checks the settings: `field`, problem, value on failure.

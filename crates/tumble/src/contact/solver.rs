@@ -84,6 +84,9 @@ pub struct Constraint {
     pub mu: f64,
     /// The spring that pushes the bodies apart when they overlap.
     pub softness: Softness,
+    /// Whether the surfaces were apart at the start of the step (`gap > 0`): a speculative contact,
+    /// which holds only approaches slower than the impact speed (faster ones are collisions).
+    pub speculative: bool,
     /// Accumulated impulses of a substep, `λ_n`, `λ_t1`, `λ_t2` (N·s).
     pub lambda: [f64; 3],
 }
@@ -173,21 +176,14 @@ impl Motion {
 /// Solves the constraints of one pair of bodies, all with the same `a` and `b` (one Gauss–Seidel
 /// pass; see [`Constraint::solve`]).
 #[inline]
-pub fn solve_pair(
-    constraints: &mut [Constraint],
-    bodies: &mut [SolverBody],
-    pass: Pass,
-    inv_h: f64,
-    slop: f64,
-    max_push: f64,
-) {
+pub fn solve_pair(constraints: &mut [Constraint], bodies: &mut [SolverBody], sweep: &Sweep) {
     let Some(first) = constraints.first() else { return };
     let (a, b) = (first.a, first.b);
     let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
     let mut any = false;
     for k in constraints.iter_mut() {
         debug_assert!(k.a == a && k.b == b);
-        any |= k.solve(&mut ma, &mut mb, pass, inv_h, slop, max_push);
+        any |= k.solve(&mut ma, &mut mb, sweep);
     }
     ma.store(bodies, a, any);
     mb.store(bodies, b, any);
@@ -208,6 +204,22 @@ pub fn warm_start_pair(constraints: &[Constraint], bodies: &mut [SolverBody]) {
     }
     ma.store(bodies, a, any);
     mb.store(bodies, b, any);
+}
+
+/// The settings of one pass over the constraints.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sweep {
+    /// Solving with the position bias, or relaxing.
+    pub pass: Pass,
+    /// `1/h` (1/s), `h` the substep.
+    pub inv_h: f64,
+    /// Overlap left alone (m).
+    pub slop: f64,
+    /// Largest bias speed (m/s).
+    pub max_push: f64,
+    /// Approach speed above which a contact is a collision (m/s): a speculative contact
+    /// approaching faster is left to the collision stage.
+    pub impact_speed: f64,
 }
 
 /// What a pass over the constraints does at points in touch.
@@ -259,6 +271,7 @@ impl Constraint {
             ang_b: [n, t1, t2].map(|d| bb.inv_inertia * r_b.cross(d)),
             mu,
             softness,
+            speculative: gap > 0.0,
             lambda: [0.0; 3],
         }
     }
@@ -283,30 +296,36 @@ impl Constraint {
     }
 
     /// One Gauss–Seidel pass over this constraint: the normal, then friction with the new normal
-    /// impulse as the disc's radius. `inv_h` is `1/h` (1/s), `slop` the overlap left alone (m) and
-    /// `max_push` the largest bias speed (m/s). Whether an impulse is held.
+    /// impulse as the disc's radius. Whether an impulse is held.
+    ///
+    /// A speculative contact approaching faster than the impact speed is left alone: it is a
+    /// collision that has not happened yet, and the collision stage resolves it, with restitution,
+    /// in the step in which the surfaces meet. Holding it here would stop the bodies short of each
+    /// other as a perfectly inelastic collision, with no restitution and no collision counted.
     #[inline]
-    pub fn solve(
-        &mut self,
-        ma: &mut Motion,
-        mb: &mut Motion,
-        pass: Pass,
-        inv_h: f64,
-        slop: f64,
-        max_push: f64,
-    ) -> bool {
+    pub fn solve(&mut self, ma: &mut Motion, mb: &mut Motion, sweep: &Sweep) -> bool {
+        let u = mb.point_velocity(self.r_b) - ma.point_velocity(self.r_a);
+        let un = u.dot(self.n);
+        if self.speculative && -un > sweep.impact_speed {
+            // whatever it held while slower (warm start, earlier substeps) is let go
+            if self.lambda != [0.0; 3] {
+                let [l0, l1, l2] = self.lambda;
+                self.apply(ma, mb, -l0, -l1, -l2);
+                self.lambda = [0.0; 3];
+                return true;
+            }
+            return false;
+        }
         // normal
         let s = self.separation(ma, mb);
         let (bias, mass_scale, impulse_scale) = if s > 0.0 {
-            (s * inv_h, 1.0, 0.0)
-        } else if pass == Pass::Solve {
+            (s * sweep.inv_h, 1.0, 0.0)
+        } else if sweep.pass == Pass::Solve {
             let k = self.softness;
-            ((k.bias_rate * (s + slop).min(0.0)).max(-max_push), k.mass_scale, k.impulse_scale)
+            ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
         } else {
             (0.0, 1.0, 0.0)
         };
-        let u = mb.point_velocity(self.r_b) - ma.point_velocity(self.r_a);
-        let un = u.dot(self.n);
         let new =
             (self.lambda[0] - self.normal_mass * mass_scale * (un + bias) - impulse_scale * self.lambda[0]).max(0.0);
         let dn = new - self.lambda[0];

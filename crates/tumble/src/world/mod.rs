@@ -188,7 +188,8 @@ impl World {
         let contacts = self.contacts_possible();
         self.save_states(contacts);
         if contacts {
-            self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt);
+            let lead = self.config.integrator.position_lead();
+            self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt, lead);
             self.note_first_contacts();
         }
         // a step that diverges is undone for the bodies whose states were saved

@@ -1,0 +1,244 @@
+//! Stage 1 of the contact step: the collisions of the step, one at a time, in the order in which
+//! they happen (Mirtich's sequential view of simultaneous collisions, 1996 §4.3).
+//!
+//! Within the step each body moves along the parabola of its integrator,
+//! `x(t) = x + (v + λ a dt) t + ½ a t² + Δx`, and turns by `ω t + Δθ` (`λ` the integrator's
+//! [position lead](crate::Integrator::position_lead), `a` the acceleration of the constant forces;
+//! world frame). `(Δx, Δθ)` are the shifts of the collisions the body has had so far in the step,
+//! `−Δv t_c` and `−Δω t_c`: after a collision at `t_c` the body moves as if it had had the new
+//! velocity since the start of the step, shifted back by what that velocity would have moved it
+//! before `t_c`. The gap of a contact at time `t` is then
+//!
+//! ```text
+//! gap(t) = G − w t − ½ α t²,    G = gap₀ + n·[(Δx_b + Δθ_b × r_b) − (Δx_a + Δθ_a × r_a)]
+//! ```
+//!
+//! with `w` the approach speed along `n` of the current contact-point velocities (with the lead) and
+//! `α` that of the accelerations. A contact collides at the first `t ∈ [t_last, dt]` at which its
+//! gap is closed while the surfaces approach, `t_last` the time of either body's latest collision
+//! (before it the current velocities did not hold), if the approach speed then exceeds
+//! `impact_speed`: slower contacts are resting contacts (stage 2).
+//!
+//! The earliest pending collision is resolved first; collisions at the same instant (surfaces
+//! within [`TOUCHING`] of each other then) are taken in contact order, the order of the body
+//! pairs. A collision changes the
+//! velocities of its two bodies, so the contacts of those two bodies are timed again. A queue
+//! ordered by time holds the pending collisions; an entry whose bodies collided since it was
+//! timed is stale and dropped. So a chain of touching balls collides at the instant the first
+//! ball strikes, ball after ball, and a ball struck by a heavier one that also reaches the next
+//! ball is resolved in that order, never through a ball in between.
+
+use super::{collide, collision_matrix, combine, ContactSettings, ContactStage};
+use crate::body::RigidBody;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// A pending collision: contact `contact` closes at `t` (s into the step), timed when its two
+/// bodies had had `epochs` collisions.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    t: f64,
+    contact: usize,
+    epochs: (u32, u32),
+}
+
+impl PartialEq for Pending {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Pending {}
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Pending {
+    /// Reversed, so that `BinaryHeap` pops the earliest, then the first contact.
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.t.total_cmp(&self.t).then(other.contact.cmp(&self.contact))
+    }
+}
+
+/// The buffers of stage 1, kept from step to step.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Sequence {
+    /// Per body: the time of its latest collision in the step (s), and how many it has had.
+    times: Vec<f64>,
+    epochs: Vec<u32>,
+    /// The contacts of each body: `by_body[starts[i]..starts[i + 1]]`.
+    starts: Vec<usize>,
+    by_body: Vec<usize>,
+    queue: BinaryHeap<Pending>,
+}
+
+impl ContactStage {
+    /// Stage 1: resolves the collisions of the step in time order (see the module's text), changing
+    /// the solver bodies' velocities and the shifts; writes the new velocities to `bodies`.
+    pub(super) fn impacts(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, dt: f64, lead: f64) {
+        let n = bodies.len();
+        let seq = &mut self.sequence;
+        seq.times.clear();
+        seq.times.resize(n, 0.0);
+        seq.epochs.clear();
+        seq.epochs.resize(n, 0);
+        // the contacts of each body (counting sort by body)
+        seq.starts.clear();
+        seq.starts.resize(n + 1, 0);
+        for c in &self.contacts {
+            seq.starts[c.a + 1] += 1;
+            seq.starts[c.b + 1] += 1;
+        }
+        for i in 0..n {
+            seq.starts[i + 1] += seq.starts[i];
+        }
+        seq.by_body.clear();
+        seq.by_body.resize(2 * self.contacts.len(), 0);
+        for (ci, c) in self.contacts.iter().enumerate() {
+            for i in [c.a, c.b] {
+                // starts[i] is the next free slot of body i until the pass ends; shifted back below
+                seq.by_body[seq.starts[i]] = ci;
+                seq.starts[i] += 1;
+            }
+        }
+        for i in (0..n).rev() {
+            seq.starts[i + 1] = seq.starts[i];
+        }
+        seq.starts[0] = 0;
+        // the collisions of the step, earliest first
+        seq.queue.clear();
+        for ci in 0..self.contacts.len() {
+            self.schedule(ci, settings, dt, lead);
+        }
+        // a bound against endless sequences (each collision takes energy or is elastic; a chain of
+        // n bodies needs at most about n² of them)
+        let cap = (4 + 2 * self.contacts.len().min(64)) * self.contacts.len().max(1);
+        let mut count = 0;
+        while let Some(next) = self.sequence.queue.pop() {
+            let c = self.contacts[next.contact];
+            let (a, b, n) = (c.a, c.b, c.normal_world);
+            if next.epochs != (self.sequence.epochs[a], self.sequence.epochs[b]) {
+                continue;
+            }
+            let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+            let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
+            let accel = bb.accel - ba.accel;
+            // the relative velocity of the contact points at t_c, along the integrators' parabolas
+            let u = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a)) + (lead * dt + next.t) * accel;
+            let k = collision_matrix(ba.inv_mass, ba.inv_inertia, r_a, bb.inv_mass, bb.inv_inertia, r_b);
+            let (mu, e) = combine(&bodies[a], &bodies[b], settings);
+            let Some(hit) = collide(k, n, u, mu, e, settings.law) else { continue };
+            let p = hit.impulse_world;
+            for (i, r, sign) in [(a, r_a, -1.0), (b, r_b, 1.0)] {
+                if bodies[i].fixed {
+                    continue;
+                }
+                let sb = &mut self.bodies[i];
+                let (dv, dw) = (sb.inv_mass * sign * p, sb.inv_inertia * r.cross(sign * p));
+                sb.v += dv;
+                sb.w += dw;
+                self.shifts[i].0 -= dv * next.t;
+                self.shifts[i].1 -= dw * next.t;
+                self.sequence.times[i] = next.t;
+                self.sequence.epochs[i] += 1;
+            }
+            self.energy.collisions += hit.energy_lost;
+            self.impacts += 1;
+            count += 1;
+            if count >= cap {
+                break;
+            }
+            // the two bodies' contacts, timed again with the new velocities
+            for i in [a, b] {
+                if bodies[i].fixed {
+                    continue;
+                }
+                for k in self.sequence.starts[i]..self.sequence.starts[i + 1] {
+                    let cj = self.sequence.by_body[k];
+                    self.schedule(cj, settings, dt, lead);
+                }
+            }
+        }
+        if count > 0 {
+            self.store_velocities(bodies);
+        }
+    }
+
+    /// Times contact `ci` with the current velocities and shifts, and queues it if it collides in
+    /// the step faster than `impact_speed`.
+    fn schedule(&mut self, ci: usize, settings: &ContactSettings, dt: f64, lead: f64) {
+        let c = &self.contacts[ci];
+        let (a, b, n) = (c.a, c.b, c.normal_world);
+        let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+        let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
+        let accel = bb.accel - ba.accel;
+        let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a)) + lead * dt * accel;
+        // G = gap + n·(s_b − s_a), s the point's shift
+        let shift = |i: usize, r| self.shifts[i].0 + self.shifts[i].1.cross(r);
+        let gap = c.gap + n.dot(shift(b, r_b) - shift(a, r_a));
+        let seq = &self.sequence;
+        let t_last = seq.times[a].max(seq.times[b]);
+        let Some(t) = closing_time(gap, -u0.dot(n), -accel.dot(n), t_last, dt) else { return };
+        if -(u0 + accel * t).dot(n) <= settings.impact_speed {
+            return;
+        }
+        let epochs = (seq.epochs[a], seq.epochs[b]);
+        self.sequence.queue.push(Pending { t, contact: ci, epochs });
+    }
+}
+
+/// Surfaces closer than this (m) touch: a contact whose gap at `t_last` is below it collides at
+/// `t_last`, so that the touching contacts of a struck chain collide at exactly the instant of the
+/// strike (and in contact order), not a round-off apart.
+pub const TOUCHING: f64 = 1e-9;
+
+/// The first time `t ∈ [t_min, dt]` (s) at which a gap closes, `gap(t) = G − w t − ½ α t²` with
+/// `G` the gap extrapolated to `t = 0` (m), approach speed `w` (m/s) and approach acceleration `α`
+/// (m/s²), while the surfaces approach, `w + α t > 0`; `None` if it stays open. A gap below
+/// [`TOUCHING`] at `t_min` is closed.
+fn closing_time(gap: f64, w: f64, alpha: f64, t_min: f64, dt: f64) -> Option<f64> {
+    // already closed at t_min: the collision is then, if the surfaces approach
+    let gap_min = gap - t_min * (w + 0.5 * alpha * t_min);
+    let w_min = w + alpha * t_min;
+    if gap_min <= TOUCHING {
+        return (w_min > 0.0).then_some(t_min);
+    }
+    // the smaller positive root of gap_min − w_min τ − ½ α τ² = 0, in the stable form
+    // 2 gap_min / (w_min + √(w_min² + 2 α gap_min))
+    let disc = w_min * w_min + 2.0 * alpha * gap_min;
+    if disc < 0.0 {
+        return None;
+    }
+    let denom = w_min + disc.sqrt();
+    if denom <= 0.0 {
+        return None;
+    }
+    let t = t_min + 2.0 * gap_min / denom;
+    (t <= dt).then_some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::closing_time;
+
+    #[test]
+    fn closing_time_of_a_falling_gap() {
+        // 1 cm closed at 1 m/s with 10 m/s² towards: 0.01 = t + 5 t² → t = (−1 + √1.2)/10
+        let t = closing_time(0.01, 1.0, 10.0, 0.0, 1.0).unwrap();
+        assert!((t - (-1.0 + 1.2f64.sqrt()) / 10.0).abs() < 1e-15);
+        // not within the step
+        assert_eq!(closing_time(0.01, 1.0, 0.0, 0.0, 0.005), None);
+        // separating
+        assert_eq!(closing_time(0.01, -1.0, 0.0, 0.0, 1.0), None);
+        assert_eq!(closing_time(-0.01, -1.0, 0.0, 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn closing_time_after_the_latest_collision() {
+        // a gap that the current velocities would have closed before t_min: closed at t_min
+        assert_eq!(closing_time(0.001, 1.0, 0.0, 0.002, 0.01), Some(0.002));
+        // still open at t_min = 0.002 (gap 0.003 − 0.002 = 0.001): closes 0.001 s later
+        let t = closing_time(0.003, 1.0, 0.0, 0.002, 0.01).unwrap();
+        assert!((t - 0.003).abs() < 1e-15);
+    }
+}
