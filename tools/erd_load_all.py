@@ -48,7 +48,7 @@ def pinocchio_numbers(urdf):
         model = pinocchio.buildModelFromUrdf(urdf)
     except Exception as e:  # noqa: BLE001 - report whatever Pinocchio says
         return {"error": str(e).splitlines()[0]}
-    mass = sum(model.inertias[i].mass for i in range(1, model.njoints))
+    mass = sum(model.inertias[i].mass for i in range(model.njoints))  # 0: what is fixed to the world
     return {"nq": model.nq, "nv": model.nv, "mass": mass}
 
 

@@ -343,7 +343,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             joint_index.insert(joint.name, joints.len());
             joints.push(joint);
         }
-        self.check_mimics(&joint_nodes, &joint_index)?;
+        self.check_mimics(&joint_nodes, &joint_index, &mut warnings)?;
 
         // the root, and cycles
         let roots: Vec<usize> = (0..links.len()).filter(|&l| parent_joint[l].is_none()).collect();
@@ -636,19 +636,31 @@ impl<'a, 'input> Parser<'a, 'input> {
         Ok(RawJoint { node, name, kind, parent, child: child_link, x_origin, limits })
     }
 
-    fn check_mimics(&self, joint_nodes: &[Node], joint_index: &HashMap<&str, usize>) -> Result<(), UrdfError> {
+    /// A joint mimicking itself is an error. A mimic naming no joint is a warning: mimic joints are
+    /// independent joints here, so the relation is never used (example-robot-data's
+    /// `alex_psyonic_hands.urdf` has twelve such tags, the target names missing their `Left_` prefix).
+    fn check_mimics(
+        &self,
+        joint_nodes: &[Node],
+        joint_index: &HashMap<&str, usize>,
+        warnings: &mut Vec<String>,
+    ) -> Result<(), UrdfError> {
         for &node in joint_nodes {
             if let Some(m) = child(node, "mimic") {
                 let name = node.attribute("name").unwrap_or("");
                 let target = self.attr(m, "joint")?;
-                let why = if target == name {
-                    "a joint cannot mimic itself"
-                } else if !joint_index.contains_key(target) {
-                    "no joint has that name"
-                } else {
-                    continue;
-                };
-                return Err(self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why }));
+                if target == name {
+                    let why = "a joint cannot mimic itself";
+                    return Err(self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why }));
+                }
+                if !joint_index.contains_key(target) {
+                    let pos = self.doc.text_pos_at(m.range().start);
+                    warnings.push(format!(
+                        "{}:{}:{}: mimic joint '{}' refers to '{}': no joint has that name (ignored: mimic joints are \
+                         independent joints)",
+                        self.file, pos.row, pos.col, name, target
+                    ));
+                }
             }
         }
         Ok(())
