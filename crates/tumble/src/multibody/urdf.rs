@@ -538,14 +538,13 @@ impl<'a, 'input> Parser<'a, 'input> {
             let balanced = nearest_physical(mass, tensor);
             let pos = self.doc.text_pos_at(node.range().start);
             warnings.push(format!(
-                "{}:{}:{}: link '{}': inertia balanced: {}; principal moments {:?} → {:?} kg·m² along the same \
-                 axes (the nearest physical tensor; it changed by {:.3e} of its norm)",
+                "{}:{}:{}: link '{}': inertia balanced: {}; replaced by the nearest physical tensor, principal \
+                 moments {:?} kg·m² along the same axes (it changed by {:.3e} of its norm)",
                 self.file,
                 pos.row,
                 pos.col,
                 name,
                 defect,
-                balanced.before,
                 balanced.after,
                 balanced.relative_change
             ));
