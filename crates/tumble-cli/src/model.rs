@@ -9,12 +9,16 @@ use tumble::multibody::{load_urdf, ChildOrder, FrameOrigin, Massless, MultibodyM
 /// Loads the robot named on the command line (exit 2 with the reader's message).
 pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
     let order = if args.joint_order == "name" { ChildOrder::JointName } else { ChildOrder::File };
-    load_urdf(&args.urdf, UrdfOptions {
-        floating: args.floating,
-        order,
-        balance_inertia: args.balance_inertia,
-        massless: if args.massless == "fuse" { Massless::Fuse } else { Massless::Error },
-    }).map_err(Failure::bad_input)
+    load_urdf(
+        &args.urdf,
+        UrdfOptions {
+            floating: args.floating,
+            order,
+            balance_inertia: args.balance_inertia,
+            massless: if args.massless == "fuse" { Massless::Fuse } else { Massless::Error },
+        },
+    )
+    .map_err(Failure::bad_input)
 }
 
 /// The layout as JSON: movable joints with their coordinates, fixed joints with `null` indices.

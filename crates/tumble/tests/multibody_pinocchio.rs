@@ -141,7 +141,8 @@ fn talos_floating_agrees_with_pinocchio() {
 fn default_joint_order_is_the_file_order() {
     let urdf = fixtures_dir().join("talos_reduced.urdf");
     let file = load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::File, ..Default::default() }).unwrap();
-    let by_name = load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::JointName, ..Default::default() }).unwrap();
+    let by_name =
+        load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::JointName, ..Default::default() }).unwrap();
     assert_eq!(file.bodies[1].joint.name, "torso_1_joint");
     assert_eq!(by_name.bodies[1].joint.name, "leg_left_1_joint");
 }

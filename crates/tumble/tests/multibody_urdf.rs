@@ -243,9 +243,7 @@ fn u13_bad_masses_and_inertias() {
     let e = err(&with_inertial(r#"<inertial><mass value="0"/><inertia ixx="1" iyy="1" izz="1"/></inertial>"#));
     assert!(matches!(*e.kind, UrdfErrorKind::BadInertia { .. }) && e.to_string().contains("without mass"), "{e}");
     // not positive semi-definite; triangle inequality
-    for (tensor, word) in
-        [(r#"ixx="1" iyy="-1" izz="1""#, "negative"), (r#"ixx="1" iyy="1" izz="3""#, "triangle")]
-    {
+    for (tensor, word) in [(r#"ixx="1" iyy="-1" izz="1""#, "negative"), (r#"ixx="1" iyy="1" izz="3""#, "triangle")] {
         let e = err(&with_inertial(&format!(r#"<inertial><mass value="1"/><inertia {tensor}/></inertial>"#)));
         assert!(matches!(*e.kind, UrdfErrorKind::BadInertia { .. }) && e.to_string().contains(word), "{e}");
         assert!(e.element.starts_with("inertia"), "{e}");
@@ -380,7 +378,9 @@ fn joint_order_is_depth_first() {
     };
     assert_eq!(names(ChildOrder::File), ["zeta", "mid", "alpha"]);
     assert_eq!(names(ChildOrder::JointName), ["alpha", "zeta", "mid"]);
-    let floating = parse_urdf(&text, "r.urdf", UrdfOptions { floating: true, order: ChildOrder::File, ..Default::default() }).unwrap();
+    let floating =
+        parse_urdf(&text, "r.urdf", UrdfOptions { floating: true, order: ChildOrder::File, ..Default::default() })
+            .unwrap();
     assert_eq!(floating.bodies[0].joint.name, "root_joint");
     assert_eq!((floating.nq(), floating.nv()), (10, 9));
 }

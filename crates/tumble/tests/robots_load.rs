@@ -205,3 +205,29 @@ fn round_off_and_limits_are_physical() {
         assert!((sorted(b.after)[k] - want[k]).abs() < 1e-12, "{:?}", b.after);
     }
 }
+
+/// The scene key: `balance_inertia = true` loads PR2 with a warning naming the link; without it the
+/// error names the link, its URDF line and the key.
+#[test]
+fn the_scene_key_balance_inertia() {
+    use tumble::scene::{self, Format};
+    let urdf = fixture("pr2.urdf");
+    let text = std::fs::read_to_string(&urdf).unwrap();
+    let line = line_of(&text, "sensor_mount_link", "<inertia");
+    let scene_text = |key: &str| {
+        format!("[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\n{key}\n", urdf.to_str().unwrap())
+    };
+    let origin = fixture("scene.toml");
+    let e = scene::from_str(&scene_text(""), origin.to_str().unwrap(), Format::Toml).map(|_| ()).unwrap_err();
+    let message = e.to_string();
+    assert!(message.contains("'sensor_mount_link'") && message.contains(&format!("pr2.urdf:{line}:")), "{message}");
+    assert!(message.contains("balance_inertia = true"), "{message}");
+    let loaded =
+        scene::from_str(&scene_text("balance_inertia = true"), origin.to_str().unwrap(), Format::Toml).unwrap();
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("link 'sensor_mount_link': inertia balanced")),
+        "{:?}",
+        loaded.warnings
+    );
+    assert!(scene::from_str(&scene_text("balance_inertia = false"), origin.to_str().unwrap(), Format::Toml).is_err());
+}

@@ -19,17 +19,21 @@
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
 //! non-finite axes, revolute/prismatic joints without `<limit>` or with `lower > upper`, masses that
-//! are negative or not finite, inertias that are not positive definite or violate the triangle
-//! inequality, and movable joints whose subtree has no mass.
+//! are negative or not finite, inertias that are not physical ([`super::balance`]: a negative
+//! principal moment, the triangle inequality violated, a tensor without mass) unless
+//! [`UrdfOptions::balance_inertia`] replaces them by the nearest physical one (one warning per
+//! link), and movable joints whose subtree has no mass unless [`Massless::Fuse`] holds them (one
+//! warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
 //!
-//! Two cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
-//! (a frame, like `ee_link` of UR5 or `panda_link8`), and `mass > 0` with an all-zero tensor is a point
-//! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
+//! Cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
+//! (a frame, like `ee_link` of UR5 or `panda_link8`), `mass > 0` with an all-zero tensor is a point
+//! mass (like Talos's `rgbd_optical_frame`), a tensor with one zero moment is a thin rod, and a
+//! `<robot>` with no links and no joints is an empty model (with a warning).
 
+use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
 use super::model::{FrameOrigin, MeshRef, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
-use super::balance::{inertia_defect, nearest_physical};
 use crate::math::{DMat3, DVec3};
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
@@ -540,13 +544,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             warnings.push(format!(
                 "{}:{}:{}: link '{}': inertia balanced: {}; replaced by the nearest physical tensor, principal \
                  moments {:?} kg·m² along the same axes (it changed by {:.3e} of its norm)",
-                self.file,
-                pos.row,
-                pos.col,
-                name,
-                defect,
-                balanced.after,
-                balanced.relative_change
+                self.file, pos.row, pos.col, name, defect, balanced.after, balanced.relative_change
             ));
             tensor = balanced.tensor;
         }
@@ -650,7 +648,9 @@ impl<'a, 'input> Parser<'a, 'input> {
                 let target = self.attr(m, "joint")?;
                 if target == name {
                     let why = "a joint cannot mimic itself";
-                    return Err(self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why }));
+                    return Err(
+                        self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why })
+                    );
                 }
                 if !joint_index.contains_key(target) {
                     let pos = self.doc.text_pos_at(m.range().start);
