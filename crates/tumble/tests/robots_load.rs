@@ -215,7 +215,10 @@ fn the_scene_key_balance_inertia() {
     let text = std::fs::read_to_string(&urdf).unwrap();
     let line = line_of(&text, "sensor_mount_link", "<inertia ");
     let scene_text = |key: &str| {
-        format!("version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\n{key}\n", urdf.to_str().unwrap())
+        format!(
+            "version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\n{key}\n",
+            urdf.to_str().unwrap()
+        )
     };
     let origin = fixture("scene.toml");
     let e = scene::from_str(&scene_text(""), origin.to_str().unwrap(), Format::Toml).map(|_| ()).unwrap_err();
