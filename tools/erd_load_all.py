@@ -10,7 +10,8 @@ by the joints that `--massless fuse` held).
 
     python3 -m venv /tmp/erd && /tmp/erd/bin/pip install example-robot-data==6.0.0 pin
     cargo build --release -p tumble-cli
-    /tmp/erd/bin/python tools/erd_load_all.py [--tumble target/release/tumble] [--json OUT.json]
+    /tmp/erd/bin/python tools/erd_load_all.py [--tumble target/release/tumble] [--json OUT.json] \
+        [--fixture crates/tumble/tests/fixtures/robots/example_robot_data.json]
 
 Exit status 0 when every URDF loads and gives finite dynamics, 1 otherwise.
 """
@@ -89,6 +90,8 @@ def main():
     parser.add_argument("--tumble", default=os.path.join(os.path.dirname(__file__), "..", "target", "release", "tumble"))
     parser.add_argument("--robots", default=None)
     parser.add_argument("--json", default=None, help="write the results here")
+    parser.add_argument("--fixture", default=None,
+                        help="write what each URDF needs and Pinocchio's nv and mass here (the Rust test's fixture)")
     args = parser.parse_args()
     root = args.robots or robots_dir()
     urdfs = sorted(
@@ -130,6 +133,22 @@ def main():
         )
         results.append(row)
     print("%d URDFs: %d load with finite dynamics, %d fail" % (len(urdfs), len(urdfs) - failures, failures))
+    if args.fixture:
+        import pinocchio
+        rows = [
+            {
+                "urdf": r["urdf"],
+                "balance_inertia": "--balance-inertia" in (r["flags"] or []),
+                "massless_fuse": "fuse" in (r["flags"] or []),
+                "pinocchio_nv": (r["pinocchio"] or {}).get("nv"),
+                "pinocchio_mass": (r["pinocchio"] or {}).get("mass"),
+            }
+            for r in results
+        ]
+        with open(args.fixture, "w") as f:
+            json.dump({"package": "example-robot-data 6.0.0", "generator": "tools/erd_load_all.py, pinocchio %s"
+                       % pinocchio.__version__, "robots": rows}, f, indent=1)
+            f.write("\n")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)

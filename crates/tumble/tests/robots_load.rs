@@ -201,8 +201,8 @@ fn round_off_and_limits_are_physical() {
     // the usual case: the two smaller moments rise and the largest falls by a third of the shortfall
     let b = nearest_physical(1.0, DMat3::from_diagonal(DVec3::new(1.0, 1.0, 5.0)));
     let want = [1.0 + 1.0, 1.0 + 1.0, 5.0 - 1.0];
-    for k in 0..3 {
-        assert!((sorted(b.after)[k] - want[k]).abs() < 1e-12, "{:?}", b.after);
+    for (got, want) in sorted(b.after).iter().zip(want) {
+        assert!((got - want).abs() < 1e-12, "{:?}", b.after);
     }
 }
 
@@ -233,4 +233,45 @@ fn the_scene_key_balance_inertia() {
         loaded.warnings
     );
     assert!(scene::from_str(&scene_text("balance_inertia = false"), origin.to_str().unwrap(), Format::Toml).is_err());
+}
+
+/// Every URDF of example-robot-data 6.0.0, where the package is installed (the environment variable
+/// `EXAMPLE_ROBOT_DATA_ROBOTS` names its `robots/` directory; otherwise the test says so and checks
+/// only the fixture): each loads with the flags the fixture lists and not without them, and its `nv`
+/// (plus the joints fused) and total mass are Pinocchio's. The fixture is written by
+/// `tools/erd_load_all.py --fixture`.
+#[test]
+fn every_example_robot_data_urdf_loads_with_the_listed_flags() {
+    let text = std::fs::read_to_string(fixture("example_robot_data.json")).unwrap();
+    let listed: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let rows = listed["robots"].as_array().unwrap();
+    assert_eq!(rows.len(), 69, "the package's URDFs");
+    let Some(root) = std::env::var_os("EXAMPLE_ROBOT_DATA_ROBOTS").map(PathBuf::from) else {
+        eprintln!("EXAMPLE_ROBOT_DATA_ROBOTS is not set: the {} URDFs are not loaded", rows.len());
+        return;
+    };
+    for row in rows {
+        let urdf = root.join(row["urdf"].as_str().unwrap());
+        let options = UrdfOptions {
+            balance_inertia: row["balance_inertia"].as_bool().unwrap(),
+            massless: if row["massless_fuse"].as_bool().unwrap() { Massless::Fuse } else { Massless::Error },
+            ..Default::default()
+        };
+        let model = load_urdf(&urdf, options).unwrap_or_else(|e| panic!("{e}"));
+        if options != UrdfOptions::default() {
+            assert!(load_urdf(&urdf, UrdfOptions::default()).is_err(), "{}: loads without flags", urdf.display());
+        }
+        let fused = model.warnings.iter().filter(|w| w.contains("fused (held at q = 0)")).count();
+        if let (Some(nv), Some(mass)) = (row["pinocchio_nv"].as_u64(), row["pinocchio_mass"].as_f64()) {
+            assert_eq!(model.nv() + fused, nv as usize, "{}", urdf.display());
+            assert!(
+                (model.total_mass - mass).abs() <= 1e-9 * mass.max(1.0),
+                "{}: {}",
+                urdf.display(),
+                model.total_mass
+            );
+        }
+        check_dynamics(row["urdf"].as_str().unwrap(), &model);
+    }
+    eprintln!("{} URDFs of {} loaded", rows.len(), root.display());
 }
