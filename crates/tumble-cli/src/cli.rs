@@ -53,6 +53,17 @@ pub struct RobotArgs {
     /// the file) or `name` (sorted by joint name, which gives Pinocchio's numbering).
     #[arg(long, value_name = "ORDER", default_value = "file", value_parser = ["file", "name"])]
     pub joint_order: String,
+
+    /// Replace a link inertia that is not physical (a negative principal moment, the triangle
+    /// inequality violated, inertia without mass) by the nearest physical one, with one warning per
+    /// link; without it such a link is an error.
+    #[arg(long)]
+    pub balance_inertia: bool,
+
+    /// A movable joint whose subtree has no mass: `error`, or `fuse` (held at q = 0 as a fixed joint,
+    /// with one warning per joint).
+    #[arg(long, value_name = "RULE", default_value = "error", value_parser = ["error", "fuse"])]
+    pub massless: String,
 }
 
 /// `tumble model`.

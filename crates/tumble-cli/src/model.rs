@@ -4,12 +4,21 @@ use crate::cli::{ModelArgs, RobotArgs};
 use crate::error::{Failure, Status};
 use crate::report::Stdout;
 use serde_json::{json, Value};
-use tumble::multibody::{load_urdf, ChildOrder, FrameOrigin, MultibodyModel, UrdfOptions};
+use tumble::multibody::{load_urdf, ChildOrder, FrameOrigin, Massless, MultibodyModel, UrdfOptions};
 
 /// Loads the robot named on the command line (exit 2 with the reader's message).
 pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
     let order = if args.joint_order == "name" { ChildOrder::JointName } else { ChildOrder::File };
-    load_urdf(&args.urdf, UrdfOptions { floating: args.floating, order }).map_err(Failure::bad_input)
+    load_urdf(
+        &args.urdf,
+        UrdfOptions {
+            floating: args.floating,
+            order,
+            balance_inertia: args.balance_inertia,
+            massless: if args.massless == "fuse" { Massless::Fuse } else { Massless::Error },
+        },
+    )
+    .map_err(Failure::bad_input)
 }
 
 /// The layout as JSON: movable joints with their coordinates, fixed joints with `null` indices.

@@ -188,3 +188,46 @@ fn dynamics_bench_prints_the_four_fields() {
         assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
     }
 }
+
+/// A robot with a link inertia that is not physical: exit 2 naming the link, its line and the flag;
+/// with `--balance-inertia`, exit 0 with a warning naming the link, and `dynamics` gives finite
+/// results. A massless finger: exit 2 naming the joint and `--massless fuse`, which then loads.
+#[test]
+fn balance_inertia_and_massless_fuse_are_asked_for_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let pr2 = robots().join("pr2.urdf");
+    let pr2 = pr2.to_str().unwrap();
+    let output = tumble(dir.path()).args(["model", pr2, "--json"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("pr2.urdf:786:7: <inertia>: inertia of link 'sensor_mount_link'"), "{stderr}");
+    assert!(stderr.contains("--balance-inertia") && output.stdout.is_empty(), "{stderr}");
+
+    let output = tumble(dir.path()).args(["model", pr2, "--json", "--balance-inertia"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("link 'sensor_mount_link': inertia balanced"), "{stderr}");
+    let layout: Value = serde_json::from_slice(&output.stdout).unwrap();
+    let nv = layout["nv"].as_u64().unwrap() as usize;
+
+    let input = dir.path().join("in.jsonl");
+    let out = dir.path().join("out.jsonl");
+    let state = serde_json::json!({"q": vec![0.1; nv], "v": vec![0.2; nv], "tau": vec![1.0; nv]});
+    fs::write(&input, format!("{state}\n")).unwrap();
+    run_ok(&["dynamics", pr2, "--balance-inertia", "--input", input.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let line: Value = serde_json::from_str(fs::read_to_string(&out).unwrap().trim()).unwrap();
+    assert_eq!(numbers(&line["qdd"]).len(), nv);
+    assert!(numbers(&line["qdd"]).iter().chain(&numbers(&line["bias"])).all(|x| x.is_finite()));
+
+    let romeo = robots().join("romeo.urdf");
+    let romeo = romeo.to_str().unwrap();
+    let output = tumble(dir.path()).args(["model", romeo]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("romeo.urdf:1443:3: <joint name=\"LHand\">") && stderr.contains("--massless fuse"),
+        "{stderr}"
+    );
+    let text = run_ok(&["model", romeo, "--massless", "fuse"]);
+    assert!(text.contains("warning:") && text.contains("joint 'LHand'") && text.contains("fused"), "{text}");
+}

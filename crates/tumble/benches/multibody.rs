@@ -40,7 +40,8 @@ struct Case {
 
 fn case(name: &'static str, file: &str, floating: bool) -> Case {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots").join(file);
-    let model = load_urdf(&path, UrdfOptions { floating, order: ChildOrder::File }).expect("fixture URDF");
+    let model = load_urdf(&path, UrdfOptions { floating, order: ChildOrder::File, ..Default::default() })
+        .expect("fixture URDF");
     let mut rng = Rng(42);
     let mut q = Vec::new();
     let (mut v, mut tau) = (Vec::new(), Vec::new());

@@ -31,7 +31,7 @@ fn check_robot(name: &str, order: ChildOrder) {
     let fixture: Value = serde_json::from_str(&text).unwrap();
     let floating = fixture["floating"].as_bool().unwrap();
     let urdf = dir.join(fixture["urdf"].as_str().unwrap());
-    let model = load_urdf(&urdf, UrdfOptions { floating, order }).unwrap();
+    let model = load_urdf(&urdf, UrdfOptions { floating, order, ..Default::default() }).unwrap();
     let nv = model.nv();
     assert_eq!(nv as u64, fixture["nv"].as_u64().unwrap(), "{name}: nv");
 
@@ -140,8 +140,9 @@ fn talos_floating_agrees_with_pinocchio() {
 #[test]
 fn default_joint_order_is_the_file_order() {
     let urdf = fixtures_dir().join("talos_reduced.urdf");
-    let file = load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::File }).unwrap();
-    let by_name = load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::JointName }).unwrap();
+    let file = load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::File, ..Default::default() }).unwrap();
+    let by_name =
+        load_urdf(&urdf, UrdfOptions { floating: true, order: ChildOrder::JointName, ..Default::default() }).unwrap();
     assert_eq!(file.bodies[1].joint.name, "torso_1_joint");
     assert_eq!(by_name.bodies[1].joint.name, "leg_left_1_joint");
 }

@@ -105,6 +105,24 @@ impl MassProperties {
     }
 }
 
+/// Eigenvalues and eigenvectors (columns, a rotation) of a finite symmetric 3×3 tensor, with no
+/// physical check: the same solver as [`MassProperties::from_tensor`] (closed form, then Jacobi
+/// sweeps), for tensors that may be indefinite. The zero tensor gives zeros and the identity.
+pub fn symmetric_eigen(tensor: DMat3) -> (DVec3, DMat3) {
+    let scale = tensor.to_cols_array().iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return (DVec3::new(tensor.x_axis.x, tensor.y_axis.y, tensor.z_axis.z), DMat3::IDENTITY);
+    }
+    let symmetric = (0.5 / scale) * (tensor + tensor.transpose());
+    let axes = DSymmetricEigen3::new(symmetric).eigenvectors;
+    let x = axes.x_axis.normalize();
+    let y = (axes.y_axis - x * x.dot(axes.y_axis)).normalize();
+    let z = x.cross(y);
+    let start = if x.is_finite() && y.is_finite() { DMat3::from_cols(x, y, z) } else { DMat3::IDENTITY };
+    let (moments, axes) = jacobi_polish(symmetric, start);
+    (moments * scale, axes)
+}
+
 /// Diagonalises the symmetric `a` starting from the orthonormal, nearly diagonalising frame `p`
 /// (det +1): cyclic Jacobi rotations on `D = Pᵀ A P` until its off-diagonal entries are round-off.
 /// Returns the diagonal of `D` (eigenvalues) and the rotated frame `P` (eigenvectors as columns,

@@ -26,6 +26,7 @@
 //! links cannot overflow the stack.
 
 pub mod aba;
+pub mod balance;
 pub mod crba;
 pub mod energy;
 pub mod fk;
@@ -50,5 +51,5 @@ pub use model::{Body, Frame, FrameOrigin, Joint, MeshRef, ModelBuilder, ModelErr
 pub use rnea::{bias_forces, rnea};
 pub use simulate::{Control, Method, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
-pub use urdf::{load_urdf, parse_urdf, ChildOrder, UrdfError, UrdfErrorKind, UrdfOptions};
+pub use urdf::{load_urdf, parse_urdf, ChildOrder, Massless, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};

@@ -25,7 +25,8 @@ pub enum ModelError {
     BadInertia { body: String },
     #[error(
         "joint '{joint}' moves a subtree without mass (body '{body}' and its descendants): \
-         the mass matrix would be singular"
+         the mass matrix would be singular (`tumble model` and `tumble dynamics` take `--massless fuse` to hold it at \
+         q = 0)"
     )]
     MasslessSubtree { joint: String, body: String },
 }

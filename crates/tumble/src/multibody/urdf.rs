@@ -19,17 +19,21 @@
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
 //! non-finite axes, revolute/prismatic joints without `<limit>` or with `lower > upper`, masses that
-//! are negative or not finite, inertias that are not positive definite or violate the triangle
-//! inequality, and movable joints whose subtree has no mass.
+//! are negative or not finite, inertias that are not physical ([`super::balance`]: a negative
+//! principal moment, the triangle inequality violated, a tensor without mass) unless
+//! [`UrdfOptions::balance_inertia`] replaces them by the nearest physical one (one warning per
+//! link), and movable joints whose subtree has no mass unless [`Massless::Fuse`] holds them (one
+//! warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
 //!
-//! Two cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
-//! (a frame, like `ee_link` of UR5 or `panda_link8`), and `mass > 0` with an all-zero tensor is a point
-//! mass (like Talos's `rgbd_optical_frame`). A zero mass with a non-zero tensor is an error.
+//! Cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
+//! (a frame, like `ee_link` of UR5 or `panda_link8`), `mass > 0` with an all-zero tensor is a point
+//! mass (like Talos's `rgbd_optical_frame`), a tensor with one zero moment is a thin rod, and a
+//! `<robot>` with no links and no joints is an empty model (with a warning).
 
+use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
 use super::model::{FrameOrigin, MeshRef, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
-use crate::body::MassProperties;
 use crate::math::{DMat3, DVec3};
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
@@ -97,7 +101,10 @@ pub enum UrdfErrorKind {
     BadLimit(String),
     #[error("mass must be finite and ≥ 0, and > 0 when an inertia tensor is given (got {0})")]
     BadMass(f64),
-    #[error("inertia of link '{link}': {reason}")]
+    #[error(
+        "inertia of link '{link}': {reason}; `--balance-inertia` (in a scene, `balance_inertia = true`) \
+         replaces it by the nearest physical inertia"
+    )]
     BadInertia { link: String, reason: String },
     #[error("mimic joint '{joint}' refers to '{target}': {why}")]
     BadMimic { joint: String, target: String, why: &'static str },
@@ -112,6 +119,23 @@ pub struct UrdfOptions {
     pub floating: bool,
     /// The order of a link's children in the depth-first joint numbering.
     pub order: ChildOrder,
+    /// Replace a link inertia that is not physical by the nearest physical one
+    /// ([`balance::nearest_physical`](super::balance::nearest_physical)), with one warning per link;
+    /// without it such a link is an error.
+    pub balance_inertia: bool,
+    /// What to do with a movable joint whose subtree has no mass.
+    pub massless: Massless,
+}
+
+/// What to do with a movable joint whose subtree has no mass (its row of the mass matrix is zero).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Massless {
+    /// An error naming the joint (the default).
+    #[default]
+    Error,
+    /// The joint is made fixed at `q = 0`, with one warning per joint: the subtree has no mass, so
+    /// the other joints' dynamics are unchanged; only its own motion is lost.
+    Fuse,
 }
 
 /// The order in which the depth-first numbering visits a link's children.
@@ -150,12 +174,13 @@ pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<Multib
             kind: Box::new(UrdfErrorKind::Xml(e.to_string())),
         }
     })?;
-    Parser { doc: &doc, file }.robot(options)
+    Parser { doc: &doc, file, options }.robot()
 }
 
 struct Parser<'a, 'input> {
     doc: &'a Document<'input>,
     file: &'a str,
+    options: UrdfOptions,
 }
 
 /// A link as read.
@@ -246,7 +271,8 @@ impl<'a, 'input> Parser<'a, 'input> {
         }
     }
 
-    fn robot(&self, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+    fn robot(&self) -> Result<MultibodyModel, UrdfError> {
+        let options = self.options;
         let root = self.doc.root_element();
         if root.tag_name().name() != "robot" {
             return Err(self.error(root, UrdfErrorKind::NotRobot(root.tag_name().name().into())));
@@ -268,7 +294,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                             self.error(node, UrdfErrorKind::Duplicate { what: "link", name: name.into(), first_line })
                         );
                     }
-                    let inertia = self.inertial(node, name)?;
+                    let inertia = self.inertial(node, name, &mut warnings)?;
                     self.meshes(node, name, &mut meshes, &mut warnings);
                     link_index.insert(name, links.len());
                     links.push(Link { node, name, inertia });
@@ -285,7 +311,14 @@ impl<'a, 'input> Parser<'a, 'input> {
             }
         }
         if links.is_empty() {
-            return Err(self.error(root, UrdfErrorKind::NoLinks));
+            if root.children().any(|n| n.is_element() && n.tag_name().name() == "joint") {
+                return Err(self.error(root, UrdfErrorKind::NoLinks));
+            }
+            // an empty <robot> (a xacro left unexpanded, e.g.): an empty model, as Pinocchio reads it
+            let mut builder = ModelBuilder::new(robot_name);
+            let pos = self.doc.text_pos_at(root.range().start);
+            builder.warn(format!("{}:{}:{}: the robot has no links: an empty model", self.file, pos.row, pos.col));
+            return builder.build().map_err(|e| self.error(root, UrdfErrorKind::Model(e)));
         }
 
         // joints, checked against the links
@@ -314,7 +347,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             joint_index.insert(joint.name, joints.len());
             joints.push(joint);
         }
-        self.check_mimics(&joint_nodes, &joint_index)?;
+        self.check_mimics(&joint_nodes, &joint_index, &mut warnings)?;
 
         // the root, and cycles
         let roots: Vec<usize> = (0..links.len()).filter(|&l| parent_joint[l].is_none()).collect();
@@ -335,6 +368,25 @@ impl<'a, 'input> Parser<'a, 'input> {
             let (path, node) = cycle_from(0, &links, &joints, &parent_joint);
             return Err(self.error(node, UrdfErrorKind::Cycle(path)));
         };
+
+        // the mass of each link's subtree (links in depth-first order, then summed children first)
+        let mut subtree_mass: Vec<f64> = links.iter().map(|l| l.inertia.mass).collect();
+        if options.massless == Massless::Fuse {
+            let mut order = Vec::with_capacity(links.len());
+            let mut stack = vec![root_link];
+            while let Some(l) = stack.pop() {
+                order.push(l);
+                stack.extend(children[l].iter().map(|&j| joints[j].child).filter(|&c| c != root_link));
+                if order.len() > links.len() {
+                    break; // a cycle: reported below
+                }
+            }
+            for &l in order.iter().rev() {
+                if let Some(j) = parent_joint[l] {
+                    subtree_mass[joints[j].parent] += subtree_mass[l];
+                }
+            }
+        }
 
         // depth-first from the root, children in file order, with an explicit stack
         let mut builder = ModelBuilder::new(robot_name);
@@ -371,7 +423,16 @@ impl<'a, 'input> Parser<'a, 'input> {
             // X_T relative to the parent's body: jointframe_X_body = jointframe_X_parentlink · parentlink_X_body
             let x_tree = joint.x_origin.compose(&parent_x_body);
             let child_link = &links[joint.child];
-            match joint.kind {
+            let mut kind = joint.kind;
+            if kind.is_some() && options.massless == Massless::Fuse && subtree_mass[joint.child] <= 0.0 {
+                let pos = self.doc.text_pos_at(joint.node.range().start);
+                warnings.push(format!(
+                    "{}:{}:{}: joint '{}': its subtree (link '{}' and below) has no mass: fused (held at q = 0)",
+                    self.file, pos.row, pos.col, joint.name, child_link.name
+                ));
+                kind = None;
+            }
+            match kind {
                 None => {
                     // fixed: the child link is part of the parent's body
                     let inertia_in_body = child_link.inertia.transform_to_a(&x_tree);
@@ -442,7 +503,12 @@ impl<'a, 'input> Parser<'a, 'input> {
     }
 
     /// `<inertial>` of a link: its spatial inertia in the link frame (zero without `<inertial>`).
-    fn inertial(&self, link: Node<'a, 'input>, name: &str) -> Result<RigidInertia, UrdfError> {
+    fn inertial(
+        &self,
+        link: Node<'a, 'input>,
+        name: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<RigidInertia, UrdfError> {
         let Some(inertial) = child(link, "inertial") else { return Ok(RigidInertia::ZERO) };
         let mass_node =
             child(inertial, "mass").ok_or_else(|| self.error(inertial, UrdfErrorKind::MissingElement("mass")))?;
@@ -461,17 +527,27 @@ impl<'a, 'input> Parser<'a, 'input> {
         let iyy = self.number(node, "iyy", None)?;
         let iyz = self.number(node, "iyz", Some(0.0))?;
         let izz = self.number(node, "izz", None)?;
-        let tensor = DMat3::from_cols(DVec3::new(ixx, ixy, ixz), DVec3::new(ixy, iyy, iyz), DVec3::new(ixz, iyz, izz));
+        let mut tensor =
+            DMat3::from_cols(DVec3::new(ixx, ixy, ixz), DVec3::new(ixy, iyy, iyz), DVec3::new(ixz, iyz, izz));
         if tensor == DMat3::ZERO {
             // mass 0 and no tensor: a massless link (a frame); mass > 0 and no tensor: a point mass
             return Ok(RigidInertia::from_com(mass, com, DMat3::ZERO));
         }
-        if mass == 0.0 {
-            return Err(self.error(mass_node, UrdfErrorKind::BadMass(mass)));
+        // physical: the triangle inequality on the eigenvalues (which implies that they are ≥ 0)
+        if let Some(defect) = inertia_defect(mass, tensor) {
+            if !self.options.balance_inertia {
+                let at = if mass == 0.0 { mass_node } else { node };
+                return Err(self.error(at, UrdfErrorKind::BadInertia { link: name.into(), reason: defect.to_string() }));
+            }
+            let balanced = nearest_physical(mass, tensor);
+            let pos = self.doc.text_pos_at(node.range().start);
+            warnings.push(format!(
+                "{}:{}:{}: link '{}': inertia balanced: {}; replaced by the nearest physical tensor, principal \
+                 moments {:?} kg·m² along the same axes (it changed by {:.3e} of its norm)",
+                self.file, pos.row, pos.col, name, defect, balanced.after, balanced.relative_change
+            ));
+            tensor = balanced.tensor;
         }
-        // positive definite and the triangle inequality, on the eigenvalues
-        MassProperties::from_tensor(mass, tensor)
-            .map_err(|e| self.error(node, UrdfErrorKind::BadInertia { link: name.into(), reason: e.to_string() }))?;
         // I_c in the link axes: R I Rᵀ; then shifted to the link origin
         Ok(RigidInertia::from_com(mass, com, rot * tensor * rot.transpose()))
     }
@@ -557,19 +633,33 @@ impl<'a, 'input> Parser<'a, 'input> {
         Ok(RawJoint { node, name, kind, parent, child: child_link, x_origin, limits })
     }
 
-    fn check_mimics(&self, joint_nodes: &[Node], joint_index: &HashMap<&str, usize>) -> Result<(), UrdfError> {
+    /// A joint mimicking itself is an error. A mimic naming no joint is a warning: mimic joints are
+    /// independent joints here, so the relation is never used (example-robot-data's
+    /// `alex_psyonic_hands.urdf` has twelve such tags, the target names missing their `Left_` prefix).
+    fn check_mimics(
+        &self,
+        joint_nodes: &[Node],
+        joint_index: &HashMap<&str, usize>,
+        warnings: &mut Vec<String>,
+    ) -> Result<(), UrdfError> {
         for &node in joint_nodes {
             if let Some(m) = child(node, "mimic") {
                 let name = node.attribute("name").unwrap_or("");
                 let target = self.attr(m, "joint")?;
-                let why = if target == name {
-                    "a joint cannot mimic itself"
-                } else if !joint_index.contains_key(target) {
-                    "no joint has that name"
-                } else {
-                    continue;
-                };
-                return Err(self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why }));
+                if target == name {
+                    let why = "a joint cannot mimic itself";
+                    return Err(
+                        self.error(m, UrdfErrorKind::BadMimic { joint: name.into(), target: target.into(), why })
+                    );
+                }
+                if !joint_index.contains_key(target) {
+                    let pos = self.doc.text_pos_at(m.range().start);
+                    warnings.push(format!(
+                        "{}:{}:{}: mimic joint '{}' refers to '{}': no joint has that name (ignored: mimic joints are \
+                         independent joints)",
+                        self.file, pos.row, pos.col, name, target
+                    ));
+                }
             }
         }
         Ok(())

@@ -10,7 +10,9 @@ use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::spatial::Xform;
-use crate::multibody::{load_urdf, Control, FrameOrigin, JointKind, MultibodyModel, UrdfOptions};
+use crate::multibody::{
+    load_urdf, Control, FrameOrigin, JointKind, ModelError, MultibodyModel, UrdfErrorKind, UrdfOptions,
+};
 use crate::world::Robot;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -157,8 +159,18 @@ impl RobotReader<'_, '_> {
                 .hint("e.g. `urdf = \"robots/arm.urdf\"` (relative to the scene file)"));
         };
         let path = Path::new(self.src.origin).parent().unwrap_or(Path::new("")).join(&urdf.value);
-        let options = UrdfOptions { floating, ..UrdfOptions::default() };
-        let model = load_urdf(&path, options).map_err(|e| self.err("urdf", urdf, e.to_string()))?;
+        let balance_inertia = doc.balance_inertia.as_ref().is_some_and(|b| b.value);
+        let options = UrdfOptions { floating, balance_inertia, ..UrdfOptions::default() };
+        let model = load_urdf(&path, options).map_err(|e| {
+            let massless = matches!(&*e.kind, UrdfErrorKind::Model(ModelError::MasslessSubtree { .. }));
+            let error = self.err("urdf", urdf, e.to_string());
+            if massless {
+                // scenes do not fuse joints: the robot's own file must say what holds the joint
+                error.hint("a joint that moves no mass cannot be simulated: make it `fixed` in the URDF")
+            } else {
+                error
+            }
+        })?;
         for w in &model.warnings {
             let text = format!("{}: {w}", path.display());
             self.warnings.push(self.src.warning(urdf.span.as_ref(), &self.at("urdf"), &text));

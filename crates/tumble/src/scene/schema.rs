@@ -309,6 +309,8 @@ pub struct RobotDoc {
     pub torque: Option<Loc<JointTable<Loc<JointValue>>>>,
     /// PD targets by joint name.
     pub pd: Option<Loc<JointTable<Loc<Table<PdDoc>>>>>,
+    /// Replace a link inertia that is not physical by the nearest physical one (reported per link).
+    pub balance_inertia: Option<Loc<bool>>,
 }
 
 /// `{ joint_name = value, ... }`, in the file's order (duplicate names are refused).
