@@ -2,7 +2,8 @@
 
 ``rollout(model, x0, nstep, control=None, chunks=None, cpus_per_task=1)`` cuts the batch into
 ``chunks`` pieces of consecutive rows, runs ``tumble.rollout`` on each in a Ray task that asks for
-``cpus_per_task`` CPUs, and puts the pieces back in order. Rows share nothing, so the result is the
+``cpus_per_task`` CPUs — chunk i on node i mod N of the nodes that have them — and puts the pieces
+back in order. Rows share nothing, so the result is the
 local ``tumble.rollout``'s, bit for bit, whichever node ran which chunk.
 
 Threads: inside a task Ray sets ``OMP_NUM_THREADS`` to the task's CPUs, and ``tumble.rollout``
@@ -21,6 +22,7 @@ from typing import Any, Optional
 
 import numpy as np
 import ray
+from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
 
 import tumble
 
@@ -59,11 +61,14 @@ def rollout(
     chunks = max(1, min(int(chunks), batch))
     bounds = np.linspace(0, batch, chunks + 1).astype(int)
     model_ref = ray.put(model)
-    task = _rollout_chunk.options(num_cpus=cpus_per_task)
-    refs = [
-        task.remote(model_ref, x0[a:b], nstep, None if control is None else control[a:b])
-        for a, b in zip(bounds[:-1], bounds[1:])
-    ]
+    # chunk i goes to node i mod N among the live nodes with the CPUs (soft: elsewhere if that one is
+    # busy or gone), so a batch spreads over the cluster rather than queueing on the first free node
+    nodes = [n["NodeID"] for n in ray.nodes() if n["Alive"] and n["Resources"].get("CPU", 0) >= cpus_per_task]
+    refs = []
+    for i, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+        strategy = NodeAffinitySchedulingStrategy(nodes[i % len(nodes)], soft=True) if nodes else "DEFAULT"
+        task = _rollout_chunk.options(num_cpus=cpus_per_task, scheduling_strategy=strategy)
+        refs.append(task.remote(model_ref, x0[a:b], nstep, None if control is None else control[a:b]))
     parts = ray.get(refs)
     states = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, nstep, model.nstate))
     status = np.concatenate([p[1] for p in parts]) if parts else np.zeros(0, dtype=np.int64)

@@ -27,6 +27,9 @@ __all__ = ["PendulumSwingUp", "PendulumSwingUpVector", "pendulum_model"]
 
 _URDF = "double_pendulum.urdf"
 
+#: joint speeds in observations are clipped to ±MAX_SPEED (rad/s), the bound of the observation space
+MAX_SPEED = 50.0
+
 
 def pendulum_model() -> tumble.Model:
     """The double pendulum on a fixed pivot (RK4, dt = 1 ms, gravity −9.81 m/s² along z, no damping)."""
@@ -42,7 +45,7 @@ def _wrap(angle: np.ndarray) -> np.ndarray:
 
 def _observe(qv: np.ndarray) -> np.ndarray:
     """``[cos q1, sin q1, cos q2, sin q2, v1, v2]`` from ``[q1, q2, v1, v2]`` (last axis)."""
-    q, v = qv[..., :2], qv[..., 2:4]
+    q, v = qv[..., :2], np.clip(qv[..., 2:4], -MAX_SPEED, MAX_SPEED)
     return np.concatenate([np.cos(q[..., :1]), np.sin(q[..., :1]), np.cos(q[..., 1:]), np.sin(q[..., 1:]), v], axis=-1)
 
 
@@ -56,8 +59,8 @@ class PendulumSwingUp(gymnasium.Env):
     """Swing a double pendulum up and hold it there.
 
     - action: ``(2,)`` float32 in [−1, 1], the joint torques as fractions of ``max_torque`` (N·m);
-    - observation: ``[cos q1, sin q1, cos q2, sin q2, v1, v2]`` (float64; rad/s), q1 the shoulder
-      angle from hanging down, q2 the elbow angle;
+    - observation: ``[cos q1, sin q1, cos q2, sin q2, v1, v2]`` (float64; rad/s, clipped to
+      ±``MAX_SPEED``), q1 the shoulder angle from hanging down, q2 the elbow angle;
     - reward: ``−(wrap(q1 − π)² + wrap(q2)² + 0.01 |v|² + 0.001 |a|²)`` per control step;
     - an episode is ``max_episode_steps`` control steps of ``frame_skip`` simulation steps (1 ms
       each), then truncated; it terminates early only if the simulation diverges.
@@ -72,7 +75,7 @@ class PendulumSwingUp(gymnasium.Env):
         self.frame_skip = int(frame_skip)
         self.max_episode_steps = int(max_episode_steps)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
-        high = np.array([1.0, 1.0, 1.0, 1.0, np.inf, np.inf])
+        high = np.array([1.0, 1.0, 1.0, 1.0, MAX_SPEED, MAX_SPEED])
         self.observation_space = spaces.Box(-high, high, dtype=np.float64)
         self._state = np.empty(self.model.nstate)
         self._elapsed = 0
