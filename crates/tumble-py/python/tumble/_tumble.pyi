@@ -1,7 +1,7 @@
 """Type stubs of the Rust extension ``tumble._tumble`` (written by hand; checked by ``mypy.stubtest``)."""
 
 import os
-from typing import Any, Literal, Optional, Union, overload
+from typing import Any, Literal, Optional, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -13,12 +13,27 @@ _Path = Union[str, os.PathLike[str]]
 
 __version__: str
 
+__all__ = [
+    "DivergedError",
+    "Model",
+    "TumbleError",
+    "World",
+    "__version__",
+    "aba",
+    "bias",
+    "crba",
+    "default_nthread",
+    "rnea",
+    "rollout",
+]
+
 class TumbleError(ValueError):
     """Bad input to tumble (a scene, a file, an array), or a simulation that diverged."""
 
 class DivergedError(TumbleError):
     """A step produced a non-finite or absurd state; the world is left at its last finite state."""
 
+@final
 class Model:
     """An immutable scene: bodies, robots and settings. Shareable between threads; picklable."""
 
@@ -71,10 +86,11 @@ class Model:
     def link_names(self, robot: Optional[_Robot] = None) -> list[str]:
         """The moving links of a robot, ``robot/link``, in the order of ``World.link_states``."""
 
+@final
 class World:
     """One simulation of a model, at ``t = 0`` when created. One thread at a time."""
 
-    def __init__(self, model: Model) -> None: ...
+    def __new__(cls, model: Model) -> World: ...
     @property
     def model(self) -> Model:
         """The model this world simulates."""

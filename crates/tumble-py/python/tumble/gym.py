@@ -29,6 +29,7 @@ _URDF = "double_pendulum.urdf"
 
 #: joint speeds in observations are clipped to ±MAX_SPEED (rad/s), the bound of the observation space
 MAX_SPEED = 50.0
+_OBS_HIGH = np.array([1.0, 1.0, 1.0, 1.0, MAX_SPEED, MAX_SPEED])
 
 
 def pendulum_model() -> tumble.Model:
@@ -75,12 +76,13 @@ class PendulumSwingUp(gymnasium.Env):
         self.frame_skip = int(frame_skip)
         self.max_episode_steps = int(max_episode_steps)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
-        high = np.array([1.0, 1.0, 1.0, 1.0, MAX_SPEED, MAX_SPEED])
-        self.observation_space = spaces.Box(-high, high, dtype=np.float64)
+        self.observation_space = spaces.Box(-_OBS_HIGH, _OBS_HIGH, dtype=np.float64)
         self._state = np.empty(self.model.nstate)
         self._elapsed = 0
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         self.world.reset()
         x = np.concatenate([self.np_random.uniform(-0.1, 0.1, 2), self.np_random.uniform(-0.1, 0.1, 2)])
@@ -89,7 +91,7 @@ class PendulumSwingUp(gymnasium.Env):
         self.world.state(out=self._state)
         return _observe(self._state), {}
 
-    def step(self, action):
+    def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
         self.world.set_torque(0, a * self.max_torque)
         info: dict[str, Any] = {}
@@ -131,7 +133,7 @@ class PendulumSwingUpVector(VectorEnv):
         self.single_action_space = single.action_space
         self.single_observation_space = single.observation_space
         self.action_space = spaces.Box(-1.0, 1.0, shape=(self.num_envs, 2), dtype=np.float32)
-        high = np.tile(single.observation_space.high, (self.num_envs, 1))
+        high = np.tile(_OBS_HIGH, (self.num_envs, 1))
         self.observation_space = spaces.Box(-high, high, dtype=np.float64)
         self._x = np.zeros((self.num_envs, self.model.nstate))
         self._elapsed = np.zeros(self.num_envs, dtype=np.int64)
@@ -142,14 +144,16 @@ class PendulumSwingUpVector(VectorEnv):
     def _initial(self, n: int) -> np.ndarray:
         return self.np_random.uniform(-0.1, 0.1, size=(n, 4))
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
+    def reset(
+        self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
         self._x[:] = self._initial(self.num_envs)
         self._elapsed[:] = 0
         self._done[:] = False
         return _observe(self._x), {}
 
-    def step(self, actions):
+    def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         a = np.clip(np.asarray(actions, dtype=np.float64), -1.0, 1.0).reshape(self.num_envs, 2)
         self._control[:] = (a * self.max_torque)[:, None, :]
         states, status = tumble.rollout(
