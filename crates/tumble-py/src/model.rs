@@ -53,6 +53,11 @@ fn format_name(format: Format) -> &'static str {
 impl Model {
     fn build(text: String, format: Format, origin: String) -> PyResult<Self> {
         let scene = scene::from_str(&text, &origin, format).map_err(|e| bad(e.to_string()))?;
+        Ok(Self::from_scene(scene, text, format, origin))
+    }
+
+    /// `origin`: where pickling says the text came from (URDF paths are relative to its directory).
+    fn from_scene(scene: scene::Scene, text: String, format: Format, origin: String) -> Self {
         let world = scene.world;
         let robots = world
             .robots
@@ -66,7 +71,7 @@ impl Model {
             })
             .collect();
         let body_names = world.free_bodies().map(|b| b.name.clone()).collect();
-        Ok(Self { world, robots, body_names, text, format: format_name(format), origin, warnings: scene.warnings })
+        Self { world, robots, body_names, text, format: format_name(format), origin, warnings: scene.warnings }
     }
 
     /// The robot named `robot` (a name or an index), or the only robot when `None`.
@@ -104,14 +109,12 @@ impl Model {
     /// Loads a scene file (`.toml` or `.json`); URDF paths are relative to the file.
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Self> {
-        // the loader checks the size, the encoding and the format, and names the file in every message
-        let loaded = scene::load(&path).map_err(|e| bad(e.to_string()))?;
+        // the loader checks the size, the encoding and the format, and names the file as given
+        let scene = scene::load(&path).map_err(|e| bad(e.to_string()))?;
         let text = std::fs::read_to_string(&path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
         let format = Format::from_path(&path).unwrap_or(Format::Toml);
         let origin = std::path::absolute(&path).unwrap_or(path).display().to_string();
-        let mut model = Self::build(text, format, origin)?;
-        model.warnings = loaded.warnings;
-        Ok(model)
+        Ok(Self::from_scene(scene, text, format, origin))
     }
 
     /// Parses a scene from text (`format` "toml" or "json"); URDF paths are relative to `base_dir`
