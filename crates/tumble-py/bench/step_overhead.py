@@ -5,27 +5,27 @@
 Per scene: the time per step of `world.step(N)` (one call: the Rust loop), the time per call of
 `world.step()` in a Python `for` loop (N calls), their difference (the overhead of a call: argument
 parsing, the World's borrow, releasing and taking back the GIL, the loop itself), and the time of
-`world.state(out=buf)`. Best of 5 runs.
+`world.state(out=buf)`. Best of 5 quiet runs (bench/quiet.py).
 """
 
+import os
 import time
 from pathlib import Path
 
 import numpy as np
 
 import tumble
+from quiet import best as quiet_best
 
 SCENES = Path(__file__).resolve().parents[3] / "scenes"
 N = 200_000
 
 
 def best(f, repeat=5):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+    t, quiet = quiet_best(f, repeat)
+    if not quiet:
+        print("warning: no quiet run (other processes were busy)")
+    return t
 
 
 def main():
@@ -56,4 +56,7 @@ def main():
 
 
 if __name__ == "__main__":
+    # other work on the machine shows here: the figures mean something only on a quiet machine
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
     main()
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
