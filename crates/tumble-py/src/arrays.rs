@@ -24,7 +24,7 @@ pub fn f64_array<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py
         let converted = np
             .call_method1("asarray", (obj, "float64"))
             .map_err(|e| bad(format!("{name}: cannot be read as float64 numbers: {e}")))?;
-        return Ok(converted.cast_into::<PyArrayDyn<f64>>().map_err(PyErr::from)?);
+        return converted.cast_into::<PyArrayDyn<f64>>().map_err(PyErr::from);
     }
     Err(bad(format!("{name}: expected a float64 numpy array, got {}", obj.get_type().name()?)))
 }

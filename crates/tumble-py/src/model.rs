@@ -10,6 +10,9 @@ use pyo3::types::PyType;
 use std::path::Path;
 use tumble::scene::{self, Format};
 
+/// The arguments of `Model._from_pickle`: scene text, format, origin.
+type PickleArgs = (String, &'static str, String);
+
 /// What a model knows about one robot.
 pub struct RobotInfo {
     pub name: String,
@@ -159,7 +162,7 @@ impl Model {
         Self::build(text, parse_format(format)?, origin)
     }
 
-    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (String, &'static str, String))> {
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, PickleArgs)> {
         let m = slf.get();
         let rebuild = slf.get_type().getattr("_from_pickle")?;
         Ok((rebuild, (m.text.clone(), m.format, m.origin.clone())))
