@@ -172,6 +172,16 @@ impl Robot {
         quat_to_wxyz(self.link_state(k).orientation)
     }
 
+    /// Sets the state `(q, v)` (lengths nq and nv, already checked by the caller: finite, unit
+    /// quaternions), renormalising the quaternions of spherical and floating joints, and recomputes
+    /// the link poses, energy and momentum.
+    pub fn set_state(&mut self, q: &[f64], v: &[f64]) {
+        self.sim.q.copy_from_slice(q);
+        self.sim.v.copy_from_slice(v);
+        crate::multibody::simulate::normalize_quaternions(&self.model, &mut self.sim.q);
+        self.refresh();
+    }
+
     /// Recomputes the forward kinematics, energy and momentum of the current state.
     fn refresh(&mut self) {
         let (model, ws) = (&self.model, &mut self.view);

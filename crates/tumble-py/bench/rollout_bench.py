@@ -1,0 +1,176 @@
+"""Rollout speed: tumble.rollout on 1 and 2 threads beside the pure-Rust loop (the example
+`rollout_loop`) and beside `mujoco.rollout` on the same work.
+
+    cargo build --release -p tumble --example rollout_loop
+    python crates/tumble-py/bench/rollout_bench.py [--quick]
+
+Workloads (RK4, dt = 1 ms, no contacts in either engine):
+- free bodies: 100 free bodies (mass 1 kg, principal moments 1, 2, 3 kg·m², spinning, under
+  gravity); in MuJoCo 100 bodies with a free joint and the same inertia, no geometry;
+- double pendulum: scenes/robots/double_pendulum.urdf on a fixed pivot;
+- Panda: scenes/robots/panda.urdf, fixed base (9 joints).
+MuJoCo loads the same URDF files (with the zero products of inertia that its reader requires written
+out), with joint damping, limits and armature switched off, as tumble's `Model.from_urdf` has none.
+
+Steps per second count one step of one row (one world). Best of 5 quiet runs each (3 for MuJoCo):
+runs during which other processes used the CPUs are taken again (bench/quiet.py).
+"""
+
+import json
+import re
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import tumble
+from quiet import best as quiet_best
+
+REPO = Path(__file__).resolve().parents[3]
+TARGET = Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+QUICK = "--quick" in sys.argv
+
+
+NOISY = []  # workloads timed while other processes used the CPUs
+
+
+def best(f, repeat=5):
+    t, quiet = quiet_best(f, repeat)
+    if not quiet:
+        NOISY.append(f)
+    return t
+
+
+def free_bodies_toml(n):
+    rng = np.random.default_rng(0)
+    lines = ['version = 1', '[world]', 'dt = 0.001', 'integrator = "rk4"']
+    for i in range(n):
+        w = rng.normal(0, 2, 3)
+        lines += [
+            "[[body]]",
+            f'name = "b{i}"',
+            "mass = 1.0",
+            "inertia = [1.0, 2.0, 3.0]",
+            f"position = [{i * 3.0}, 0.0, 0.0]",
+            f"angular_velocity = [{w[0]}, {w[1]}, {w[2]}]",
+        ]
+    return "\n".join(lines) + "\n"
+
+
+def free_bodies_mjcf(n):
+    rng = np.random.default_rng(0)
+    bodies = "".join(
+        f'<body pos="{i * 3.0} 0 0"><freejoint/><inertial pos="0 0 0" mass="1" diaginertia="1 2 3"/></body>'
+        for i in range(n)
+    )
+    xml = f'<mujoco><option timestep="0.001" integrator="RK4"/><worldbody>{bodies}</worldbody></mujoco>'
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    data.qvel[:] = np.concatenate([np.concatenate([np.zeros(3), rng.normal(0, 2, 3)]) for _ in range(n)])
+    return model, data
+
+
+def urdf_mujoco(path):
+    import mujoco
+
+    # MuJoCo's URDF reader requires every inertia attribute: write out the zeros the file leaves out
+    text = re.sub(
+        r"<inertia ([^/]*)/>",
+        lambda m: "<inertia " + m.group(1) + "".join(f' {k}="0"' for k in ("ixy", "ixz", "iyz") if k not in m.group(1)) + "/>",
+        Path(path).read_text(),
+    )
+    model = mujoco.MjModel.from_xml_string(text)
+    model.opt.timestep = 0.001
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    model.dof_damping[:] = 0.0
+    model.dof_armature[:] = 0.0
+    model.jnt_limited[:] = 0
+    return model, mujoco.MjData(model)
+
+
+def rust_loop(scene_path, rows, nstep):
+    exe = TARGET / "release" / "examples" / "rollout_loop"
+    if not exe.is_file():
+        sys.exit(f"{exe} is missing: cargo build --release -p tumble --example rollout_loop")
+    result = {}
+
+    def run():
+        done = subprocess.run([str(exe), str(scene_path), str(rows), str(nstep)], capture_output=True, text=True, check=True)
+        result.update(json.loads(done.stdout))
+
+    best(run, repeat=2)  # the example keeps the best of its own 5 runs
+    return result["steps_per_s"]
+
+
+def tumble_rollout(model, rows, nstep, nthread):
+    x0 = np.tile(tumble.World(model).state(), (rows, 1))
+    out = np.empty((rows, nstep, model.nstate))
+    t = best(lambda: tumble.rollout(model, x0, nstep, nthread=nthread, out=out))
+    return rows * nstep / t
+
+
+def mujoco_rollout(mj, rows, nstep, nthread):
+    import mujoco
+    from mujoco import rollout
+
+    model, data = mj
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    x = np.empty(mujoco.mj_stateSize(model, spec))
+    mujoco.mj_getState(model, data, x, spec)
+    x0 = np.tile(x, (rows, 1))
+    datas = [mujoco.MjData(model) for _ in range(nthread)]
+    state = np.empty((rows, nstep, x.size))
+    with rollout.Rollout(nthread=nthread) as r:
+        t = best(lambda: r.rollout(model, datas, x0, nstep=nstep, state=state), repeat=3)
+    return rows * nstep / t
+
+
+def main():
+    scale = 4 if QUICK else 1
+    with tempfile.TemporaryDirectory() as tmp:
+        free = Path(tmp) / "free_bodies.toml"
+        free.write_text(free_bodies_toml(100))
+        pendulum_urdf = REPO / "scenes" / "robots" / "double_pendulum.urdf"
+        panda_urdf = REPO / "scenes" / "robots" / "panda.urdf"
+        # the Rust loop reads scene files: robots through a one-robot scene like Model.from_urdf's
+        scenes = {}
+        for name, urdf in [("pendulum", pendulum_urdf), ("panda", panda_urdf)]:
+            path = Path(tmp) / f"{name}.toml"
+            path.write_text(tumble.Model.from_urdf(urdf).text)
+            scenes[name] = path
+        cases = [
+            ("100 free bodies", free, tumble.Model.from_file(free), lambda: free_bodies_mjcf(100), 16, 1000),
+            ("double pendulum", scenes["pendulum"], tumble.Model.from_urdf(pendulum_urdf), lambda: urdf_mujoco(pendulum_urdf), 256, 1000),
+            ("Panda (9 joints)", scenes["panda"], tumble.Model.from_urdf(panda_urdf), lambda: urdf_mujoco(panda_urdf), 64, 1000),
+        ]
+        head = f"| workload | rows × steps | Rust loop | tumble 1 thread (× Rust) | tumble 2 threads (× 1 thread) | MuJoCo 1 thread | MuJoCo 2 threads | tumble ÷ MuJoCo (1 / 2 threads) |"
+        print(head)
+        print("|" + "---|" * 8)
+        for name, scene_path, model, mj_make, rows, nstep in cases:
+            rows //= scale
+            rust = rust_loop(scene_path, rows, nstep)
+            one = tumble_rollout(model, rows, nstep, 1)
+            two = tumble_rollout(model, rows, nstep, 2)
+            mj = mj_make()
+            mj_one = mujoco_rollout(mj, rows, nstep, 1)
+            mj_two = mujoco_rollout(mj, rows, nstep, 2)
+            f = lambda s: f"{s / 1e6:.3g} M/s"  # noqa: E731
+            print(
+                f"| {name} | {rows} × {nstep} | {f(rust)} | {f(one)} ({one / rust:.2f}) | {f(two)} ({two / one:.2f}) "
+                f"| {f(mj_one)} | {f(mj_two)} | {one / mj_one:.1f} / {two / mj_two:.1f} |"
+            )
+
+
+if __name__ == "__main__":
+    # other work on the machine shows here: the figures mean something only on a quiet machine
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
+    main()
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+    if NOISY:
+        print(f"warning: {len(NOISY)} timings had no quiet run: other processes were busy")

@@ -1,0 +1,247 @@
+//! `tumble.World`: one simulation, the mutable state beside an immutable `Model`.
+//!
+//! `step(n)` releases the GIL for the whole of its `n` steps. A `World` is used by one thread at a
+//! time (a second thread touching it while it steps gets "Already borrowed"): give each thread its
+//! own, from the same shared `Model`.
+
+use crate::arrays::{check_shape, f64_array, finite_vector, out_array, values};
+use crate::model::Model;
+use crate::{bad, DivergedError};
+use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// One simulation of a model, at `t = 0` when created.
+#[pyclass(module = "tumble")]
+pub struct World {
+    world: tumble::World,
+    model: Py<Model>,
+}
+
+/// Sets robot `r`'s joint forces to the scene's plus `extra` (nv).
+pub fn apply_torque(world: &mut tumble::World, base_tau: &[f64], r: usize, extra: &[f64]) {
+    for ((tau, base), u) in world.robots[r].control.tau.iter_mut().zip(base_tau).zip(extra) {
+        *tau = base + u;
+    }
+}
+
+/// The message of a diverged step as a `DivergedError`.
+pub fn diverged(e: tumble::world::Diverged) -> PyErr {
+    DivergedError::new_err(e.to_string())
+}
+
+impl World {
+    fn robot(&self, robot: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+        self.model.get().robot_index(robot)
+    }
+}
+
+#[pymethods]
+impl World {
+    /// A new simulation of `model` at `t = 0`, in the scene's initial state.
+    #[new]
+    fn new(model: Bound<'_, Model>) -> Self {
+        Self { world: model.get().world.clone(), model: model.unbind() }
+    }
+
+    /// The model this world simulates.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<Model> {
+        self.model.clone_ref(py)
+    }
+
+    /// Advances `n` steps of `dt` (the GIL is released meanwhile). A step that diverges raises
+    /// `DivergedError` and leaves the world at the last finite state (the steps before it are kept).
+    #[pyo3(signature = (n = 1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let world = &mut self.world;
+        py.detach(|| (0..n).try_for_each(|_| world.step())).map_err(diverged)
+    }
+
+    /// Simulated time (s), `steps · dt`.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.world.time()
+    }
+
+    /// Steps taken since the start.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.world.steps()
+    }
+
+    /// The state, float64 of shape (nstate,): each moving body's `[x, y, z, qw, qx, qy, qz, vx, vy,
+    /// vz, wx, wy, wz]` (world frame, the trajectory CSV row), then each robot's `q` then `v`.
+    /// With `out` (a C-contiguous float64 array of that shape) it is written there and returned:
+    /// nothing is allocated.
+    #[pyo3(signature = (out = None))]
+    fn state<'py>(&self, py: Python<'py>, out: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.world.state_len();
+        let array = match out {
+            Some(out) => out_array(out, &[n])?,
+            None => PyArrayDyn::<f64>::zeros(py, numpy::IxDyn(&[n]), false),
+        };
+        {
+            let mut rw = array.try_readwrite().map_err(|e| bad(format!("out: {e}")))?;
+            let slice = rw.as_slice_mut().map_err(|e| bad(format!("out: {e}")))?;
+            self.world.write_state(slice).map_err(|e| bad(e.to_string()))?;
+        }
+        Ok(array)
+    }
+
+    /// Sets the state (the layout of `state()`). Checked as a whole before anything changes: shape
+    /// (nstate,), dtype float64, every entry finite, every quaternion of unit norm (to 1e-6; it is
+    /// then renormalised). Raises `TumbleError` naming the entry. Time, controls and the contact
+    /// history are kept.
+    fn set_state(&mut self, x: &Bound<'_, PyAny>) -> PyResult<()> {
+        let a = f64_array(x, "x")?;
+        check_shape("x", a.shape(), &[Some(self.world.state_len())], "(nstate,)")?;
+        let ro = a.try_readonly().map_err(|e| bad(format!("x: {e}")))?;
+        let v = values(&ro);
+        self.world.set_state(&v).map_err(|e| bad(format!("x: {e}")))
+    }
+
+    /// Back to the model's initial state at `t = 0` (controls too).
+    fn reset(&mut self) {
+        self.world.clone_from(&self.model.get().world);
+    }
+
+    /// Kinetic plus gravitational potential energy of the moving bodies and robots (J).
+    fn energy(&self) -> f64 {
+        self.world.energy()
+    }
+
+    /// Total linear momentum of the moving bodies and floating-base robots, world frame (kg·m/s).
+    fn linear_momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.world.linear_momentum().to_array())
+    }
+
+    /// Total angular momentum about the world origin, world frame (kg·m²/s).
+    fn angular_momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.world.angular_momentum().to_array())
+    }
+
+    /// Joint forces of a robot (nv, N·m or N), added to the scene's constant ones from the next step
+    /// on, until set again. `robot`: name or index (default: the only robot).
+    #[pyo3(signature = (robot, tau))]
+    fn set_torque(&mut self, robot: &Bound<'_, PyAny>, tau: &Bound<'_, PyAny>) -> PyResult<()> {
+        let r = self.robot(Some(robot))?;
+        let model = self.model.get();
+        let info = &model.robots[r];
+        let tau = finite_vector(tau, "tau", info.nv, "(nv,) joint forces")?;
+        apply_torque(&mut self.world, &info.base_tau, r, &tau);
+        Ok(())
+    }
+
+    /// PD targets of a robot: `τ += kp (q* − q) + kd (v* − v)` on its one-coordinate joints.
+    /// `q_target` (nq,); `kp`, `kd` (nv,) replace the scene's gains when given (a robot needs
+    /// non-zero gains for the target to act); `v_target` (nv,) defaults to zero velocity.
+    #[pyo3(signature = (robot, q_target, kp = None, kd = None, v_target = None))]
+    fn set_pd_target(
+        &mut self,
+        robot: &Bound<'_, PyAny>,
+        q_target: &Bound<'_, PyAny>,
+        kp: Option<&Bound<'_, PyAny>>,
+        kd: Option<&Bound<'_, PyAny>>,
+        v_target: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let r = self.robot(Some(robot))?;
+        let model = self.model.get();
+        let (nq, nv) = (model.robots[r].nq, model.robots[r].nv);
+        let q_target = finite_vector(q_target, "q_target", nq, "(nq,) joint positions")?;
+        let gains = |g: Option<&Bound<'_, PyAny>>, name| -> PyResult<Option<Vec<f64>>> {
+            let Some(g) = g else { return Ok(None) };
+            let g = finite_vector(g, name, nv, "(nv,) gains")?;
+            if let Some(i) = g.iter().position(|x| *x < 0.0) {
+                return Err(bad(format!("{name}: entry {i} is negative (got {})", g[i])));
+            }
+            Ok(Some(g))
+        };
+        let kp = gains(kp, "kp")?;
+        let kd = gains(kd, "kd")?;
+        let v_target = v_target.map(|v| finite_vector(v, "v_target", nv, "(nv,) joint velocities")).transpose()?;
+        let control = &mut self.world.robots[r].control;
+        let has_gains = kp.as_ref().unwrap_or(&control.kp).iter().any(|k| *k > 0.0)
+            || kd.as_ref().unwrap_or(&control.kd).iter().any(|k| *k > 0.0);
+        if !has_gains {
+            return Err(bad(format!(
+                "robot `{}` has no PD gains: pass kp (and kd), or set them in the scene's [robot.pd]",
+                model.robots[r].name
+            )));
+        }
+        control.q_target.copy_from_slice(&q_target);
+        if let Some(kp) = kp {
+            control.kp.copy_from_slice(&kp);
+        }
+        if let Some(kd) = kd {
+            control.kd.copy_from_slice(&kd);
+        }
+        if let Some(v) = v_target {
+            control.v_target.copy_from_slice(&v);
+        }
+        Ok(())
+    }
+
+    /// Poses and velocities of a robot's moving links (the order of `Model.link_names`), shape
+    /// (nlink, 13): `[x, y, z, qw, qx, qy, qz, vx, vy, vz, wx, wy, wz]` of each link frame, world frame.
+    #[pyo3(signature = (robot = None))]
+    fn link_states<'py>(
+        &self,
+        py: Python<'py>,
+        robot: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let r = self.robot(robot)?;
+        let robot = &self.world.robots[r];
+        let n = robot.link_names().len();
+        let mut rows = Vec::with_capacity(n);
+        for k in 0..n {
+            let s = robot.link_state(k);
+            let mut row = Vec::with_capacity(13);
+            row.extend(s.position.to_array());
+            row.extend(robot.link_orientation_wxyz(k));
+            row.extend(s.velocity.to_array());
+            row.extend(s.angular_velocity.to_array());
+            rows.push(row);
+        }
+        if rows.is_empty() {
+            return Ok(PyArray2::zeros(py, [0, 13], false));
+        }
+        PyArray2::from_vec2(py, &rows).map_err(|e| bad(e.to_string()))
+    }
+
+    /// The contacts found in the last step, a list of dicts: `a`, `b` (body names), `point` (m),
+    /// `normal` (unit, from `a` towards `b`), both world frame, and `depth` (m, > 0 when the shapes
+    /// overlap). Robot links do not collide yet.
+    fn contacts<'py>(&mut self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let names: Vec<String> = self.world.bodies.iter().map(|b| b.name.clone()).collect();
+        let stage = self.world.contact_stage();
+        let mut out = Vec::with_capacity(stage.contacts().len());
+        for c in stage.contacts() {
+            let d = PyDict::new(py);
+            d.set_item("a", &names[c.a])?;
+            d.set_item("b", &names[c.b])?;
+            d.set_item("point", PyArray1::from_slice(py, &c.point_world.to_array()))?;
+            d.set_item("normal", PyArray1::from_slice(py, &c.normal_world.to_array()))?;
+            d.set_item("depth", -c.gap)?;
+            out.push(d);
+        }
+        Ok(out)
+    }
+
+    /// Collisions resolved since the start.
+    fn collisions(&self) -> u64 {
+        self.world.contact_collisions()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("World(t={}, steps={}, nstate={})", self.world.time(), self.world.steps(), self.world.state_len())
+    }
+}
+
+/// Checks every row of `x0` (B, nstate) as `World.set_state` would, naming the row.
+pub fn check_rows(world: &mut tumble::World, x0: &[f64], s: usize) -> PyResult<()> {
+    for (b, row) in x0.chunks_exact(s.max(1)).enumerate() {
+        world.set_state(row).map_err(|e| bad(format!("x0[{b}]: {e}")))?;
+    }
+    Ok(())
+}
