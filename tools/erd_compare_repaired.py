@@ -24,6 +24,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pinocchio as pin
 
+from erd_load_all import robots_dir  # tools/ is the script's directory, first on sys.path
+
 # (URDF, floating base): a defective link fixed to a fixed base changes nothing in M or the bias
 ROBOTS = [
     ("anymal_c_simple_description/urdf/anymal.urdf", False),
@@ -38,14 +40,6 @@ ROBOTS = [
 ]
 TOL = 1e-9
 KEYS = ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]
-
-
-def robots_dir():
-    for p in sys.path:
-        d = os.path.join(p, "cmeel.prefix", "share", "example-robot-data", "robots")
-        if os.path.isdir(d):
-            return d
-    sys.exit("example-robot-data not found")
 
 
 def physical(lam):

@@ -30,6 +30,7 @@
 
 use super::{collide, collision_matrix, combine, ContactSettings, ContactStage};
 use crate::body::RigidBody;
+use crate::math::DVec3;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -82,34 +83,14 @@ impl ContactStage {
         seq.times.resize(n, 0.0);
         seq.epochs.clear();
         seq.epochs.resize(n, 0);
-        // the contacts of each body (counting sort by body)
-        seq.starts.clear();
-        seq.starts.resize(n + 1, 0);
-        for c in &self.contacts {
-            seq.starts[c.a + 1] += 1;
-            seq.starts[c.b + 1] += 1;
-        }
-        for i in 0..n {
-            seq.starts[i + 1] += seq.starts[i];
-        }
-        seq.by_body.clear();
-        seq.by_body.resize(2 * self.contacts.len(), 0);
-        for (ci, c) in self.contacts.iter().enumerate() {
-            for i in [c.a, c.b] {
-                // starts[i] is the next free slot of body i until the pass ends; shifted back below
-                seq.by_body[seq.starts[i]] = ci;
-                seq.starts[i] += 1;
-            }
-        }
-        for i in (0..n).rev() {
-            seq.starts[i + 1] = seq.starts[i];
-        }
-        seq.starts[0] = 0;
-        // the collisions of the step, earliest first
         seq.queue.clear();
         for ci in 0..self.contacts.len() {
             self.schedule(ci, settings, dt, lead);
         }
+        if self.sequence.queue.is_empty() {
+            return;
+        }
+        self.index_contacts_by_body(n);
         // a bound against endless sequences (each collision takes energy or is elastic; a chain of
         // n bodies needs at most about n² of them)
         let cap = (4 + 2 * self.contacts.len().min(64)) * self.contacts.len().max(1);
@@ -120,11 +101,10 @@ impl ContactStage {
             if next.epochs != (self.sequence.epochs[a], self.sequence.epochs[b]) {
                 continue;
             }
-            let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
-            let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
-            let accel = bb.accel - ba.accel;
             // the relative velocity of the contact points at t_c, along the integrators' parabolas
-            let u = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a)) + (lead * dt + next.t) * accel;
+            let (r_a, r_b, u0, accel) = self.approach(next.contact, dt, lead);
+            let u = u0 + next.t * accel;
+            let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
             let k = collision_matrix(ba.inv_mass, ba.inv_inertia, r_a, bb.inv_mass, bb.inv_inertia, r_b);
             let (mu, e) = combine(&bodies[a], &bodies[b], settings);
             let Some(hit) = collide(k, n, u, mu, e, settings.law) else { continue };
@@ -164,15 +144,52 @@ impl ContactStage {
         }
     }
 
+    /// The contacts of each of the `n` bodies, `by_body[starts[i]..starts[i + 1]]` (a counting
+    /// sort; built only in a step with a collision).
+    fn index_contacts_by_body(&mut self, n: usize) {
+        let seq = &mut self.sequence;
+        seq.starts.clear();
+        seq.starts.resize(n + 1, 0);
+        for c in &self.contacts {
+            seq.starts[c.a + 1] += 1;
+            seq.starts[c.b + 1] += 1;
+        }
+        for i in 0..n {
+            seq.starts[i + 1] += seq.starts[i];
+        }
+        seq.by_body.clear();
+        seq.by_body.resize(2 * self.contacts.len(), 0);
+        for (ci, c) in self.contacts.iter().enumerate() {
+            for i in [c.a, c.b] {
+                // starts[i] is the next free slot of body i until the pass ends; shifted back below
+                seq.by_body[seq.starts[i]] = ci;
+                seq.starts[i] += 1;
+            }
+        }
+        for i in (0..n).rev() {
+            seq.starts[i + 1] = seq.starts[i];
+        }
+        seq.starts[0] = 0;
+    }
+
+    /// Contact `ci`'s offsets `r_a`, `r_b` (m), the relative velocity of its two points at the
+    /// start of the step along the integrators' parabolas, `u₀ = u + λ dt Δa` (m/s), and their
+    /// relative acceleration `Δa` (m/s²), world frame, with the current velocities.
+    fn approach(&self, ci: usize, dt: f64, lead: f64) -> (DVec3, DVec3, DVec3, DVec3) {
+        let c = &self.contacts[ci];
+        let (ba, bb) = (&self.bodies[c.a], &self.bodies[c.b]);
+        let (r_a, r_b) = (c.point_world - self.positions[c.a], c.point_world - self.positions[c.b]);
+        let accel = bb.accel - ba.accel;
+        let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a)) + lead * dt * accel;
+        (r_a, r_b, u0, accel)
+    }
+
     /// Times contact `ci` with the current velocities and shifts, and queues it if it collides in
     /// the step faster than `impact_speed`.
     fn schedule(&mut self, ci: usize, settings: &ContactSettings, dt: f64, lead: f64) {
+        let (r_a, r_b, u0, accel) = self.approach(ci, dt, lead);
         let c = &self.contacts[ci];
         let (a, b, n) = (c.a, c.b, c.normal_world);
-        let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
-        let (r_a, r_b) = (c.point_world - self.positions[a], c.point_world - self.positions[b]);
-        let accel = bb.accel - ba.accel;
-        let u0 = (bb.v + bb.w.cross(r_b)) - (ba.v + ba.w.cross(r_a)) + lead * dt * accel;
         // G = gap + n·(s_b − s_a), s the point's shift
         let shift = |i: usize, r| self.shifts[i].0 + self.shifts[i].1.cross(r);
         let gap = c.gap + n.dot(shift(b, r_b) - shift(a, r_a));

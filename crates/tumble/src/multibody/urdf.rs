@@ -314,7 +314,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             if root.children().any(|n| n.is_element() && n.tag_name().name() == "joint") {
                 return Err(self.error(root, UrdfErrorKind::NoLinks));
             }
-            // an empty <robot> (a xacro left unexpanded, e.g.): an empty model, as Pinocchio reads it
+            // an empty <robot> (a xacro left unexpanded, e.g.): an empty model, with a warning
             let mut builder = ModelBuilder::new(robot_name);
             let pos = self.doc.text_pos_at(root.range().start);
             builder.warn(format!("{}:{}:{}: the robot has no links: an empty model", self.file, pos.row, pos.col));

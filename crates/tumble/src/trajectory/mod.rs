@@ -31,6 +31,7 @@ mod monitor;
 pub mod read;
 mod summary;
 mod writer;
+pub(crate) use writer::body_row;
 
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};

@@ -66,6 +66,17 @@ impl Row {
         }
     }
 
+    /// The row as one array, `[x y z qw qx qy qz vx vy vz wx wy wz]`.
+    #[inline]
+    fn to_array(&self) -> [f64; 13] {
+        let mut out = [0.0; 13];
+        out[0..3].copy_from_slice(&self.position);
+        out[3..7].copy_from_slice(&self.orientation);
+        out[7..10].copy_from_slice(&self.velocity);
+        out[10..13].copy_from_slice(&self.angular_velocity);
+        out
+    }
+
     /// The first quantity that is not finite, if any.
     #[inline]
     fn non_finite(&self) -> Option<&'static str> {
@@ -276,6 +287,13 @@ fn csv_field(text: &str) -> String {
 }
 
 /// One CSV row `t,name,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz` into `line` (cleared first).
+/// A moving body's trajectory row, `[x y z qw qx qy qz vx vy vz wx wy wz]` (world frame): the
+/// numbers the CSV and JSON Lines writers print (also the body's part of `World::write_state`).
+#[inline]
+pub(crate) fn body_row(body: &RigidBody) -> [f64; 13] {
+    Row::of(body).to_array()
+}
+
 fn csv_row(line: &mut Vec<u8>, t: f64, name: &str, row: &Row) {
     line.clear();
     push_f64(line, t);

@@ -14,7 +14,7 @@
 //! Neither function allocates.
 
 use super::{World, MAX_STATE_MAGNITUDE};
-use crate::math::{quat_from_wxyz, quat_to_wxyz, DVec3};
+use crate::math::{quat_from_wxyz, DVec3};
 use crate::multibody::simulate::quaternion_slots;
 
 /// Numbers per moving body in the state vector.
@@ -55,12 +55,7 @@ impl World {
         }
         let mut k = 0;
         for body in self.free_bodies() {
-            let s = &body.state;
-            let row = &mut out[k..k + BODY_STATE_LEN];
-            row[0..3].copy_from_slice(&s.position.to_array());
-            row[3..7].copy_from_slice(&quat_to_wxyz(body.orientation_user()));
-            row[7..10].copy_from_slice(&s.velocity.to_array());
-            row[10..13].copy_from_slice(&s.omega_world().to_array());
+            out[k..k + BODY_STATE_LEN].copy_from_slice(&crate::trajectory::body_row(body));
             k += BODY_STATE_LEN;
         }
         for robot in &self.robots {
