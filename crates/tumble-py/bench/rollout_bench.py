@@ -14,6 +14,11 @@ out), with joint damping, limits and armature switched off, as tumble's `Model.f
 
 Steps per second count one step of one row (one world). Best of 5 quiet runs each (3 for MuJoCo):
 runs during which other processes used the CPUs are taken again (bench/quiet.py).
+
+Two threads against one: on a virtual machine the speed of each CPU drifts from one second to the
+next (the host's other guests, its clock), by ±30 % here, more than the effect measured. So the
+scaling is also measured in PAIRS interleaved runs, one thread then two threads on the same batch, and
+reported as the median of the pairs' ratios with its range: a drift slower than a pair cancels.
 """
 
 import json
@@ -33,6 +38,7 @@ from quiet import best as quiet_best
 REPO = Path(__file__).resolve().parents[3]
 TARGET = Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
 QUICK = "--quick" in sys.argv
+PAIRS = 5 if QUICK else 15
 
 
 NOISY = []  # workloads timed while other processes used the CPUs
@@ -108,11 +114,31 @@ def rust_loop(scene_path, rows, nstep):
     return result["steps_per_s"]
 
 
+def paired_scaling(one, two):
+    """Median (min, max) over PAIRS of time(one) / time(two), the two run back to back."""
+    ratios = []
+    for _ in range(PAIRS):
+        t0 = time.perf_counter()
+        one()
+        t1 = time.perf_counter()
+        two()
+        t2 = time.perf_counter()
+        ratios.append((t1 - t0) / (t2 - t1))
+    return float(np.median(ratios)), min(ratios), max(ratios)
+
+
 def tumble_rollout(model, rows, nstep, nthread):
     x0 = np.tile(tumble.World(model).state(), (rows, 1))
     out = np.empty((rows, nstep, model.nstate))
     t = best(lambda: tumble.rollout(model, x0, nstep, nthread=nthread, out=out))
     return rows * nstep / t
+
+
+def tumble_scaling(model, rows, nstep):
+    x0 = np.tile(tumble.World(model).state(), (rows, 1))
+    out = np.empty((rows, nstep, model.nstate))
+    run = lambda n: lambda: tumble.rollout(model, x0, nstep, nthread=n, out=out)  # noqa: E731
+    return paired_scaling(run(1), run(2))
 
 
 def mujoco_rollout(mj, rows, nstep, nthread):
@@ -129,6 +155,25 @@ def mujoco_rollout(mj, rows, nstep, nthread):
     with rollout.Rollout(nthread=nthread) as r:
         t = best(lambda: r.rollout(model, datas, x0, nstep=nstep, state=state), repeat=3)
     return rows * nstep / t
+
+
+def mujoco_scaling(mj, rows, nstep):
+    import mujoco
+    from mujoco import rollout
+
+    model, data = mj
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    x = np.empty(mujoco.mj_stateSize(model, spec))
+    mujoco.mj_getState(model, data, x, spec)
+    x0 = np.tile(x, (rows, 1))
+    state = np.empty((rows, nstep, x.size))
+    with rollout.Rollout(nthread=1) as r1, rollout.Rollout(nthread=2) as r2:
+        d1 = [mujoco.MjData(model)]
+        d2 = [mujoco.MjData(model) for _ in range(2)]
+        return paired_scaling(
+            lambda: r1.rollout(model, d1, x0, nstep=nstep, state=state),
+            lambda: r2.rollout(model, d2, x0, nstep=nstep, state=state),
+        )
 
 
 def main():
@@ -152,6 +197,7 @@ def main():
         head = f"| workload | rows × steps | Rust loop | tumble 1 thread (× Rust) | tumble 2 threads (× 1 thread) | MuJoCo 1 thread | MuJoCo 2 threads | tumble ÷ MuJoCo (1 / 2 threads) |"
         print(head)
         print("|" + "---|" * 8)
+        scaling = []
         for name, scene_path, model, mj_make, rows, nstep in cases:
             rows //= scale
             rust = rust_loop(scene_path, rows, nstep)
@@ -165,6 +211,15 @@ def main():
                 f"| {name} | {rows} × {nstep} | {f(rust)} | {f(one)} ({one / rust:.2f}) | {f(two)} ({two / one:.2f}) "
                 f"| {f(mj_one)} | {f(mj_two)} | {one / mj_one:.1f} / {two / mj_two:.1f} |"
             )
+            scaling.append((name, tumble_scaling(model, rows, nstep), mujoco_scaling(mj, rows, nstep)))
+        print()
+        print(f"Two threads ÷ one thread, median (range) of {PAIRS} interleaved pairs:")
+        print()
+        print("| workload | tumble | MuJoCo |")
+        print("|---|---|---|")
+        g = lambda r: f"{r[0]:.2f} ({r[1]:.2f}–{r[2]:.2f})"  # noqa: E731
+        for name, ours, theirs in scaling:
+            print(f"| {name} | {g(ours)} | {g(theirs)} |")
 
 
 if __name__ == "__main__":

@@ -4,21 +4,28 @@
 //! one-thread rollout, without Python.
 //!
 //! ```sh
-//! cargo run --release -p tumble --example rollout_loop -- scenes/double_pendulum.toml 64 1000
+//! cargo run --release -p tumble --example rollout_loop -- scenes/double_pendulum.toml 64 1000 [THREADS]
 //! ```
 //!
-//! Prints one JSON line: `{"rows", "nstep", "nstate", "seconds", "steps_per_s"}` (the best of 5 runs;
-//! a step is one world step of one row).
+//! Prints one JSON line: `{"rows", "nstep", "nstate", "threads", "seconds", "steps_per_s"}` (the best
+//! of 5 runs; a step is one world step of one row). With `THREADS` > 1 the rows are split into that
+//! many contiguous blocks, one scoped thread each: the two-thread figure of the Rust loop, against
+//! which the rollout's thread scaling can be told apart from the machine's.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [scene, rows, nstep] = args.as_slice() else {
-        eprintln!("usage: rollout_loop SCENE ROWS NSTEP");
-        std::process::exit(2);
+    let (scene, rows, nstep, threads) = match args.as_slice() {
+        [scene, rows, nstep] => (scene, rows, nstep, "1"),
+        [scene, rows, nstep, threads] => (scene, rows, nstep, threads.as_str()),
+        _ => {
+            eprintln!("usage: rollout_loop SCENE ROWS NSTEP [THREADS]");
+            std::process::exit(2);
+        }
     };
+    let threads: usize = threads.parse().ok().filter(|&n| n > 0).expect("THREADS: a positive number");
     let rows: usize = rows.parse().expect("ROWS: a number");
     let nstep: usize = nstep.parse().expect("NSTEP: a number");
     let base = match tumble::scene::load(&PathBuf::from(scene)) {
@@ -35,20 +42,29 @@ fn main() {
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let start = Instant::now();
-        for row in out.chunks_mut((nstep * s).max(1)) {
-            let mut world = base.clone();
-            world.set_state(&x0).expect("the scene's own state");
-            for t in 0..nstep {
-                world.step().expect("the benchmark scenes do not diverge");
-                world.write_state(&mut row[t * s..(t + 1) * s]).expect("length");
+        let row_len = (nstep * s).max(1);
+        let block = rows.div_ceil(threads).max(1) * row_len;
+        std::thread::scope(|scope| {
+            for rows_out in out.chunks_mut(block) {
+                let (base, x0) = (&base, &x0);
+                scope.spawn(move || {
+                    for row in rows_out.chunks_mut(row_len) {
+                        let mut world = base.clone();
+                        world.set_state(x0).expect("the scene's own state");
+                        for t in 0..nstep {
+                            world.step().expect("the benchmark scenes do not diverge");
+                            world.write_state(&mut row[t * s..(t + 1) * s]).expect("length");
+                        }
+                    }
+                });
             }
-        }
+        });
         best = best.min(start.elapsed().as_secs_f64());
     }
     std::hint::black_box(&out);
     let steps = (rows * nstep) as f64;
     println!(
-        "{{\"rows\": {rows}, \"nstep\": {nstep}, \"nstate\": {s}, \"seconds\": {best}, \"steps_per_s\": {}}}",
+        "{{\"rows\": {rows}, \"nstep\": {nstep}, \"nstate\": {s}, \"threads\": {threads}, \"seconds\": {best}, \"steps_per_s\": {}}}",
         steps / best
     );
 }
