@@ -141,6 +141,11 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE")]
     pub summary: Option<PathBuf>,
 
+    /// Also write every active contact at each sample to FILE.jsonl: the two bodies, the point, the
+    /// normal, the depth and the force on the second body (the step's impulse over dt).
+    #[arg(long, value_name = "FILE.jsonl")]
+    pub contacts: Option<PathBuf>,
+
     /// Stop after this many seconds of wall time (after a whole step; outputs are valid, exit 0).
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub max_wall_time: Option<f64>,

@@ -55,7 +55,13 @@ pub fn start_line(origin: &str, world: &tumble::World, out: &Path) -> String {
 }
 
 /// The table printed when a run ends.
-pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path: Option<&Path>) -> String {
+pub fn table(
+    summary: &Summary,
+    trajectory: &Path,
+    format: Format,
+    summary_path: Option<&Path>,
+    contacts_path: Option<&Path>,
+) -> String {
     let s = summary;
     let mut t = String::new();
     let mut row = |label: &str, value: String| {
@@ -119,6 +125,9 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     row("trajectory", format!("{} ({kind}, {} samples)", trajectory.display(), s.samples));
     if let Some(path) = summary_path {
         row("summary", path.display().to_string());
+    }
+    if let Some(path) = contacts_path {
+        row("contacts", format!("{} (JSON Lines, {} samples)", path.display(), s.samples));
     }
     t
 }
@@ -308,7 +317,7 @@ mod tests {
         let mut summary = Summary::new(&world, &monitor, 0.0, StopReason::Completed, "<demo>");
         summary.energy.max_relative_error = f64::NAN;
         summary.angular_momentum.max_relative_error = f64::INFINITY;
-        let text = table(&summary, Path::new("out/demo.csv"), Format::Csv, None);
+        let text = table(&summary, Path::new("out/demo.csv"), Format::Csv, None, None);
         assert!(!text.to_lowercase().contains("nan") && !text.contains("inf"), "{text}");
         assert!(text.contains("not finite"), "{text}");
         assert!(text.contains("body-steps/s               -"), "no rate for a zero wall time: {text}");

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use tumble::scene::{self, Scene};
-use tumble::trajectory::{Format, Monitor, StopReason, Summary, TrajectoryError, TrajectoryWriter};
+use tumble::trajectory::{ContactWriter, Format, Monitor, StopReason, Summary, TrajectoryError, TrajectoryWriter};
 use tumble::world::Diverged;
 use tumble::World;
 
@@ -31,6 +31,8 @@ pub struct Plan {
     pub default_out: bool,
     pub format: Format,
     pub summary: Option<PathBuf>,
+    /// `--contacts`: the contacts file (JSON Lines).
+    pub contacts: Option<PathBuf>,
     pub quiet: bool,
     /// `--max-wall-time`.
     pub wall_time_limit: Option<Duration>,
@@ -56,7 +58,9 @@ impl Plan {
         })?;
         crate::plot::check_run(args, &out)?;
         if let Some(scene) = &args.scene {
-            for (flag, path) in [("--out", Some(&out)), ("--summary", args.summary.as_ref())] {
+            for (flag, path) in
+                [("--out", Some(&out)), ("--summary", args.summary.as_ref()), ("--contacts", args.contacts.as_ref())]
+            {
                 if path.is_some_and(|p| same_file(scene, p)) {
                     return Err(Failure::bad_input(format!(
                         "{flag} {}: this is the scene file {}; refusing to overwrite it",
@@ -75,6 +79,23 @@ impl Plan {
                 )));
             }
         }
+        if let Some(contacts) = &args.contacts {
+            if Format::from_path(contacts) != Some(Format::JsonLines) {
+                return Err(Failure::bad_input(format!(
+                    "--contacts {}: the contacts file is JSON Lines; name it FILE.jsonl",
+                    contacts.display()
+                )));
+            }
+            for (flag, path) in [("--out", Some(&out)), ("--summary", args.summary.as_ref())] {
+                if path.is_some_and(|p| same_file(contacts, p)) {
+                    return Err(Failure::bad_input(format!(
+                        "--contacts {}: the same file as {flag} {}",
+                        contacts.display(),
+                        path.unwrap().display()
+                    )));
+                }
+            }
+        }
         let mut scene = match &args.scene {
             Some(path) => scene::load(path).map_err(Failure::bad_input)?,
             None => scene::demo(),
@@ -85,8 +106,16 @@ impl Plan {
             Some(s) => return Err(Failure::bad_input(format!("--max-wall-time: must be finite and > 0 (got {s})"))),
             None => None,
         };
-        let plan =
-            Plan { scene, out, default_out, format, summary: args.summary.clone(), quiet: args.quiet, wall_time_limit };
+        let plan = Plan {
+            scene,
+            out,
+            default_out,
+            format,
+            summary: args.summary.clone(),
+            contacts: args.contacts.clone(),
+            quiet: args.quiet,
+            wall_time_limit,
+        };
         let bytes = plan.estimated_bytes();
         if bytes > MAX_OUTPUT_BYTES && !args.force {
             return Err(Failure::bad_input(format!(
@@ -149,6 +178,28 @@ pub enum Stop {
     WallTimeLimit,
 }
 
+/// A failure of the loop's writing, and which output it hit.
+#[derive(Debug)]
+pub enum LoopError {
+    /// The trajectory (or a value of the sample that the step did not catch).
+    Trajectory(TrajectoryError),
+    /// The contacts file (`--contacts`).
+    Contacts(TrajectoryError),
+}
+
+/// One sample: the trajectory, then the contacts of the step that ended there.
+fn write_sample<W: Write, C: Write>(
+    world: &World,
+    writer: &mut TrajectoryWriter<W>,
+    contacts: Option<&mut ContactWriter<C>>,
+) -> Result<(), LoopError> {
+    writer.write_sample(world).map_err(LoopError::Trajectory)?;
+    if let Some(c) = contacts {
+        c.write_sample(world).map_err(LoopError::Contacts)?;
+    }
+    Ok(())
+}
+
 /// What the loop leaves behind.
 #[derive(Debug)]
 pub struct Outcome {
@@ -167,17 +218,20 @@ pub struct Outcome {
 ///   ends after the current step, writing it.
 /// - The trajectory is flushed about every second, and at the end.
 ///
-/// Nothing is allocated per step: the writer reuses its buffers.
-pub fn simulate<W: Write>(
+/// With `contacts`, each sample also writes the active contacts of the step that ended there.
+///
+/// Nothing is allocated per step: the writers reuse their buffers.
+pub fn simulate<W: Write, C: Write>(
     world: &mut World,
     writer: &mut TrajectoryWriter<W>,
+    mut contacts: Option<&mut ContactWriter<C>>,
     stop: &AtomicBool,
     ticker: &mut Ticker,
-) -> Result<Outcome, TrajectoryError> {
+) -> Result<Outcome, LoopError> {
     let start = Instant::now();
     let total = world.config.step_count();
     let every = world.config.sample_every;
-    writer.write_sample(world)?;
+    write_sample(world, writer, contacts.as_deref_mut())?;
     let mut monitor = Monitor::new(world);
     let mut last_sampled = world.steps();
     let mut end = Stop::Completed;
@@ -189,7 +243,7 @@ pub fn simulate<W: Write>(
         }
         let step = world.steps();
         if step % every == 0 || step == total {
-            writer.write_sample(world)?;
+            write_sample(world, writer, contacts.as_deref_mut())?;
             monitor.observe(world);
             last_sampled = step;
         }
@@ -200,7 +254,10 @@ pub fn simulate<W: Write>(
         if ticker.due(step) {
             let tick = ticker.tick(step);
             if tick.flush {
-                writer.flush()?;
+                writer.flush().map_err(LoopError::Trajectory)?;
+                if let Some(c) = contacts.as_deref_mut() {
+                    c.flush().map_err(LoopError::Contacts)?;
+                }
             }
             if tick.out_of_time {
                 end = Stop::WallTimeLimit;
@@ -209,16 +266,19 @@ pub fn simulate<W: Write>(
         }
     }
     if last_sampled != world.steps() {
-        writer.write_sample(world)?;
+        write_sample(world, writer, contacts.as_deref_mut())?;
         monitor.observe(world);
     }
-    writer.flush()?;
+    writer.flush().map_err(LoopError::Trajectory)?;
+    if let Some(c) = contacts {
+        c.flush().map_err(LoopError::Contacts)?;
+    }
     Ok(Outcome { monitor, stop: end, wall_time_s: start.elapsed().as_secs_f64() })
 }
 
 /// `tumble run`.
 pub fn run(args: &RunArgs) -> Result<Status, Failure> {
-    let Plan { scene, out, default_out, format, summary, quiet, wall_time_limit } = Plan::new(args)?;
+    let Plan { scene, out, default_out, format, summary, contacts, quiet, wall_time_limit } = Plan::new(args)?;
     let Scene { mut world, origin, warnings } = scene;
     if !quiet {
         let mut stderr = std::io::stderr().lock();
@@ -245,33 +305,63 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
         },
         None => None,
     };
+    // the outputs opened so far, discarded together when one fails before the loop
+    let discard_all = |trajectory: OutputFile, summary: Option<OutputFile>, contacts: Option<OutputFile>| {
+        trajectory.discard();
+        summary.into_iter().chain(contacts).for_each(OutputFile::discard);
+    };
+    let (contacts_out, mut contacts_writer) = match &contacts {
+        Some(path) => match OutputFile::create(path) {
+            Ok((output, file)) => (Some(output), Some(ContactWriter::new(file, &world))),
+            Err(e) => {
+                discard_all(trajectory_out, summary_out, None);
+                return Err(Failure::output(cannot_write(path, &e)));
+            }
+        },
+        None => (None, None),
+    };
 
     let mut stdout = Stdout::default();
     let stdout_failure = |e: std::io::Error| Failure::output(format!("cannot write to standard output: {e}"));
     if !quiet {
         if let Err(e) = stdout.write(&report::start_line(&origin, &world, &out)) {
-            trajectory_out.discard();
-            summary_out.into_iter().for_each(OutputFile::discard);
+            discard_all(trajectory_out, summary_out, contacts_out);
             return Err(stdout_failure(e));
         }
     }
     let progress_allowed = !quiet && std::io::stderr().is_terminal();
     let mut ticker = Ticker::new(world.config.step_count(), world.free_bodies().count(), progress_allowed)
         .with_wall_time_limit(wall_time_limit);
-    let looped = TrajectoryWriter::new(file, format, &world)
-        .and_then(|mut writer| simulate(&mut world, &mut writer, &stop, &mut ticker).map(|o| (o, writer)));
+    let looped = TrajectoryWriter::new(file, format, &world).map_err(LoopError::Trajectory).and_then(|mut writer| {
+        simulate(&mut world, &mut writer, contacts_writer.as_mut(), &stop, &mut ticker).map(|o| (o, writer))
+    });
     ticker.finish();
-    let finished = looped.and_then(|(outcome, writer)| writer.finish().map(|_file| outcome));
+    let finished = looped.and_then(|(outcome, writer)| {
+        writer.finish().map_err(LoopError::Trajectory)?;
+        if let Some(c) = contacts_writer.take() {
+            c.finish().map_err(LoopError::Contacts)?;
+        }
+        Ok(outcome)
+    });
     let outcome = match finished {
         Ok(outcome) => outcome,
         Err(e) => {
             summary_out.into_iter().for_each(OutputFile::discard);
-            return Err(loop_failure(e, &out, trajectory_out.partial()));
+            // what was written before the failure stays, in the .partial files
+            let written = (out.as_path(), trajectory_out.partial());
+            let contacts_written = contacts.as_deref().zip(contacts_out.as_ref().map(OutputFile::partial));
+            return Err(loop_failure(e, written, contacts_written));
         }
     };
     if let Err(e) = trajectory_out.commit() {
-        summary_out.into_iter().for_each(OutputFile::discard);
+        summary_out.into_iter().chain(contacts_out).for_each(OutputFile::discard);
         return Err(Failure::output(cannot_write(&out, &e)));
+    }
+    if let (Some(output), Some(path)) = (contacts_out, &contacts) {
+        if let Err(e) = output.commit() {
+            summary_out.into_iter().for_each(OutputFile::discard);
+            return Err(Failure::output(cannot_write(path, &e)));
+        }
     }
 
     let reason = match outcome.stop {
@@ -285,7 +375,7 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
         write_summary(&run_summary, output, path)?;
     }
     if !quiet {
-        let table = report::table(&run_summary, &out, format, summary.as_deref());
+        let table = report::table(&run_summary, &out, format, summary.as_deref(), contacts.as_deref());
         stdout.write(&table).map_err(stdout_failure)?;
     }
     crate::plot::after_run(args, &world, &origin, &out)?;
@@ -322,16 +412,25 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
 
 /// The failure of the loop or of the final flush: an I/O error (exit 4, the part written so far
 /// kept in the `.partial` file) or a non-finite value that the step did not catch (exit 3).
-fn loop_failure(e: TrajectoryError, out: &Path, partial: &Path) -> Failure {
-    match e {
-        TrajectoryError::Io(io) => {
-            let mut message = format!("cannot write '{}': {io}", out.display());
-            if partial != out {
-                message.push_str(&format!("\nthe part written before the failure is in '{}'", partial.display()));
-            }
-            Failure::output(message)
+/// `trajectory` and `contacts`: each output's path and where its part written so far is.
+fn loop_failure(e: LoopError, trajectory: (&Path, &Path), contacts: Option<(&Path, &Path)>) -> Failure {
+    let (e, path) = match e {
+        LoopError::Trajectory(e) => (e, trajectory.0),
+        LoopError::Contacts(e) => (e, contacts.map_or(trajectory.0, |c| c.0)),
+    };
+    let mut kept = String::new();
+    for (out, part) in std::iter::once(trajectory).chain(contacts) {
+        if part != out {
+            kept.push_str(&format!(
+                "\nthe part of '{}' written before the failure is in '{}'",
+                out.display(),
+                part.display()
+            ));
         }
-        other => Failure::diverged(format!("{other}\nthe part written so far is in '{}'", partial.display())),
+    }
+    match e {
+        TrajectoryError::Io(io) => Failure::output(format!("cannot write '{}': {io}{kept}", path.display())),
+        other => Failure::diverged(format!("{other}{kept}")),
     }
 }
 

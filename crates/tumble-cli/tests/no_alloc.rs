@@ -7,7 +7,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::AtomicBool;
-use tumble::trajectory::{Format, TrajectoryWriter};
+use tumble::trajectory::{ContactWriter, Format, TrajectoryWriter};
 use tumble::Integrator;
 use tumble_cli::report::Ticker;
 use tumble_cli::run::{simulate, Stop};
@@ -57,7 +57,8 @@ fn allocations(integrator: Integrator, format: Format, steps: u64) -> usize {
     let mut ticker = Ticker::new(steps, 6, false);
     let stop = AtomicBool::new(false);
     let before = allocations_so_far();
-    let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
+    let outcome =
+        simulate(&mut world, &mut writer, None::<&mut ContactWriter<std::io::Sink>>, &stop, &mut ticker).unwrap();
     let after = allocations_so_far();
     assert!(matches!(outcome.stop, Stop::Completed));
     assert_eq!(world.steps(), steps);
@@ -86,7 +87,8 @@ fn robot_allocations(integrator: Integrator, format: Format, steps: u64) -> usiz
     let mut ticker = Ticker::new(steps, 12, false);
     let stop = AtomicBool::new(false);
     let before = allocations_so_far();
-    let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
+    let outcome =
+        simulate(&mut world, &mut writer, None::<&mut ContactWriter<std::io::Sink>>, &stop, &mut ticker).unwrap();
     let after = allocations_so_far();
     assert!(matches!(outcome.stop, Stop::Completed));
     after - before

@@ -134,6 +134,25 @@ def tumble_rollout(model, rows, nstep, nthread):
     return rows * nstep / t
 
 
+def against_rust_loop(scene_path, model, rows, nstep):
+    """Median (min, max) over PAIRS of the Rust loop's best of 5 (its own) ÷ the one-thread rollout's
+    best of 5, the two run back to back: the one-thread ratio, free of the machine's drift."""
+    exe = TARGET / "release" / "examples" / "rollout_loop"
+    x0 = np.tile(tumble.World(model).state(), (rows, 1))
+    out = np.empty((rows, nstep, model.nstate))
+    ratios = []
+    for _ in range(PAIRS):
+        done = subprocess.run([str(exe), str(scene_path), str(rows), str(nstep)], capture_output=True, text=True, check=True)
+        rust = json.loads(done.stdout)["seconds"]
+        times = []
+        for _ in range(5):
+            t0 = time.perf_counter()
+            tumble.rollout(model, x0, nstep, nthread=1, out=out)
+            times.append(time.perf_counter() - t0)
+        ratios.append(rust / min(times))
+    return float(np.median(ratios)), min(ratios), max(ratios)
+
+
 def tumble_scaling(model, rows, nstep):
     x0 = np.tile(tumble.World(model).state(), (rows, 1))
     out = np.empty((rows, nstep, model.nstate))
@@ -211,15 +230,22 @@ def main():
                 f"| {name} | {rows} × {nstep} | {f(rust)} | {f(one)} ({one / rust:.2f}) | {f(two)} ({two / one:.2f}) "
                 f"| {f(mj_one)} | {f(mj_two)} | {one / mj_one:.1f} / {two / mj_two:.1f} |"
             )
-            scaling.append((name, tumble_scaling(model, rows, nstep), mujoco_scaling(mj, rows, nstep)))
+            scaling.append(
+                (
+                    name,
+                    against_rust_loop(scene_path, model, rows, nstep),
+                    tumble_scaling(model, rows, nstep),
+                    mujoco_scaling(mj, rows, nstep),
+                )
+            )
         print()
-        print(f"Two threads ÷ one thread, median (range) of {PAIRS} interleaved pairs:")
+        print(f"Median (range) of {PAIRS} interleaved pairs:")
         print()
-        print("| workload | tumble | MuJoCo |")
-        print("|---|---|---|")
+        print("| workload | tumble 1 thread ÷ Rust loop | tumble 2 threads ÷ 1 | MuJoCo 2 threads ÷ 1 |")
+        print("|---|---|---|---|")
         g = lambda r: f"{r[0]:.2f} ({r[1]:.2f}–{r[2]:.2f})"  # noqa: E731
-        for name, ours, theirs in scaling:
-            print(f"| {name} | {g(ours)} | {g(theirs)} |")
+        for name, rust, ours, theirs in scaling:
+            print(f"| {name} | {g(rust)} | {g(ours)} | {g(theirs)} |")
 
 
 if __name__ == "__main__":

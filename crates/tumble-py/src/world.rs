@@ -209,20 +209,22 @@ impl World {
         PyArray2::from_vec2(py, &rows).map_err(|e| bad(e.to_string()))
     }
 
-    /// The contacts found in the last step, a list of dicts: `a`, `b` (body names), `point` (m),
-    /// `normal` (unit, from `a` towards `b`), both world frame, and `depth` (m, > 0 when the shapes
-    /// overlap). Robot links do not collide yet.
-    fn contacts<'py>(&mut self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        let names: Vec<String> = self.world.bodies.iter().map(|b| b.name.clone()).collect();
-        let stage = self.world.contact_stage();
-        let mut out = Vec::with_capacity(stage.contacts().len());
-        for c in stage.contacts() {
+    /// The active contacts of the last step (those that carried an impulse, or whose surfaces
+    /// overlapped), a list of dicts: `a`, `b` (body names), `point` (m), `normal` (unit, from `a`
+    /// towards `b`), both world frame, `depth` (m, > 0 when the shapes overlap) and `force` (N, on
+    /// `b`: the contact's whole impulse over the step, collision included, divided by `dt`) — the
+    /// lines of `tumble run --contacts`. Robot links do not collide yet.
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let inv_dt = 1.0 / self.world.config.dt;
+        let mut out = Vec::new();
+        for (c, p) in self.world.contacts().active() {
             let d = PyDict::new(py);
-            d.set_item("a", &names[c.a])?;
-            d.set_item("b", &names[c.b])?;
+            d.set_item("a", &self.world.bodies[c.a].name)?;
+            d.set_item("b", &self.world.bodies[c.b].name)?;
             d.set_item("point", PyArray1::from_slice(py, &c.point_world.to_array()))?;
             d.set_item("normal", PyArray1::from_slice(py, &c.normal_world.to_array()))?;
             d.set_item("depth", -c.gap)?;
+            d.set_item("force", PyArray1::from_slice(py, &(p * inv_dt).to_array()))?;
             out.push(d);
         }
         Ok(out)

@@ -225,6 +225,34 @@ def test_contacts_of_bodies_on_the_floor(demo):
         assert "floor" in (c["a"], c["b"])
         assert c["point"].shape == (3,) and abs(np.linalg.norm(c["normal"]) - 1.0) < 1e-12
         assert abs(c["depth"]) < 0.01
+        assert c["force"].shape == (3,)
+
+
+def test_contact_forces_hold_a_resting_box_up():
+    # a 2 kg box on a plane: once at rest, the contact forces on it sum to its weight
+    model = tumble.Model.from_str(
+        """
+version = 1
+[world]
+dt = 0.004
+integrator = "semi_implicit_euler"
+[[body]]
+name = "floor"
+fixed = true
+shape = { type = "plane" }
+[[body]]
+name = "box"
+mass = 2.0
+shape = { type = "box", half_extents = [0.3, 0.2, 0.1] }
+position = [0.0, 0.0, 0.1]
+"""
+    )
+    w = tumble.World(model)
+    w.step(500)
+    contacts = w.contacts()
+    assert len(contacts) >= 3
+    total = sum(c["force"] if c["b"] == "box" else -c["force"] for c in contacts)
+    assert np.allclose(total, [0.0, 0.0, 2.0 * 9.81], rtol=1e-6, atol=1e-9)
 
 
 def test_divergence_raises_and_keeps_the_last_finite_state(projectile):

@@ -13,7 +13,8 @@ fn demo(duration: f64) -> World {
 fn simulate_csv(world: &mut World, stop: bool) -> (Outcome, String) {
     let mut writer = TrajectoryWriter::new(Vec::new(), Format::Csv, world).unwrap();
     let mut ticker = Ticker::new(world.config.step_count(), 2, false);
-    let outcome = simulate(world, &mut writer, &AtomicBool::new(stop), &mut ticker).unwrap();
+    let outcome =
+        simulate(world, &mut writer, None::<&mut ContactWriter<Vec<u8>>>, &AtomicBool::new(stop), &mut ticker).unwrap();
     (outcome, String::from_utf8(writer.finish().unwrap()).unwrap())
 }
 
@@ -110,9 +111,10 @@ fn a_full_disk_is_an_io_error() {
     let mut world = demo(10.0);
     let mut writer = TrajectoryWriter::new(Full { room: 10_000 }, Format::JsonLines, &world).unwrap();
     let mut ticker = Ticker::new(world.config.step_count(), 2, false);
-    let result = simulate(&mut world, &mut writer, &AtomicBool::new(false), &mut ticker);
+    let result =
+        simulate(&mut world, &mut writer, None::<&mut ContactWriter<Vec<u8>>>, &AtomicBool::new(false), &mut ticker);
     match result {
-        Err(TrajectoryError::Io(e)) => assert_eq!(e.raw_os_error(), Some(28)),
+        Err(LoopError::Trajectory(TrajectoryError::Io(e))) => assert_eq!(e.raw_os_error(), Some(28)),
         other => panic!("{other:?}"),
     }
     assert!(world.steps() < 10_000, "stopped at the failure, not at the end");

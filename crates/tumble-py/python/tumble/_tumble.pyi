@@ -128,7 +128,8 @@ class World:
     def link_states(self, robot: Optional[_Robot] = None) -> _F64:
         """Poses and velocities of a robot's moving links, (nlink, 13), world frame."""
     def contacts(self) -> list[dict[str, Any]]:
-        """The contacts of the last step: ``a``, ``b``, ``point``, ``normal``, ``depth``."""
+        """The active contacts of the last step: ``a``, ``b`` (body names), ``point``, ``normal`` (from
+        ``a`` to ``b``), ``depth`` (> 0: overlap) and ``force`` (N, on ``b``: the step's impulse over dt)."""
     def collisions(self) -> int:
         """Collisions resolved since the start."""
 

@@ -109,6 +109,7 @@ impl ContactStage {
             let (mu, e) = combine(&bodies[a], &bodies[b], settings);
             let Some(hit) = collide(k, n, u, mu, e, settings.law) else { continue };
             let p = hit.impulse_world;
+            self.impulses[next.contact] += p;
             for (i, r, sign) in [(a, r_a, -1.0), (b, r_b, 1.0)] {
                 if bodies[i].fixed {
                     continue;

@@ -116,6 +116,11 @@ pub struct ContactStage {
     /// Pairs of bodies that never collide (from the scene's `no_collide` lists).
     excluded: Vec<(usize, usize)>,
     contacts: Vec<Contact>,
+    /// The impulse on body `b` of each contact over the step, impacts and resting contact,
+    /// world frame (N·s); aligned with `contacts`.
+    impulses: Vec<DVec3>,
+    /// Each constraint's accumulated impulses `λ_n, λ_t1, λ_t2` summed over the substeps (N·s).
+    lambda_sums: Vec<[f64; 3]>,
     bodies: Vec<SolverBody>,
     positions: Vec<DVec3>,
     predicted: Vec<(DVec3, DVec3)>,
@@ -169,6 +174,25 @@ impl ContactStage {
         &self.contacts
     }
 
+    /// The impulse on body `b` of each of [`contacts`](Self::contacts) over the last step (N·s,
+    /// world frame): its collision impulse, if it was a collision, plus the resting-contact
+    /// impulses of every substep. Body `a` received the opposite. Over `dt` it is the contact's
+    /// mean force on `b` during the step.
+    pub fn impulses(&self) -> &[DVec3] {
+        &self.impulses
+    }
+
+    /// The active contacts of the last step, each with its impulse on `b` (N·s): those that
+    /// carried an impulse, or whose surfaces overlapped. A speculative contact (surfaces still
+    /// apart) that pushed nothing is not active.
+    pub fn active(&self) -> impl Iterator<Item = (&Contact, DVec3)> {
+        self.contacts
+            .iter()
+            .zip(&self.impulses)
+            .filter(|(c, p)| **p != DVec3::ZERO || c.gap < 0.0)
+            .map(|(c, p)| (c, *p))
+    }
+
     /// Detects the contacts of the step and changes the bodies' velocities by the impulses of
     /// collisions and resting contacts (state at the start of the step; `gravity` m/s², `dt` s;
     /// `lead` the integrator's [`position_lead`](crate::Integrator::position_lead), which says
@@ -190,11 +214,15 @@ impl ContactStage {
         self.energy_before.resize(bodies.len(), 0.0);
         self.gravity = gravity;
         if !settings.enabled || bodies.is_empty() {
+            self.contacts.clear();
+            self.impulses.clear();
             return;
         }
         let mut contacts = std::mem::take(&mut self.contacts);
         self.colliders_mut(bodies).find_contacts(bodies, dt, gravity, settings.slop, &mut contacts);
         self.contacts = contacts;
+        self.impulses.clear();
+        self.impulses.resize(self.contacts.len(), DVec3::ZERO);
         if self.contacts.is_empty() {
             self.previous.clear();
             return;
@@ -313,6 +341,8 @@ impl ContactStage {
             }
         }
         let constraints = &mut self.constraints;
+        self.lambda_sums.clear();
+        self.lambda_sums.resize(constraints.len(), [0.0; 3]);
         for _ in 0..substeps {
             for &i in &self.active {
                 self.bodies[i].integrate_velocity(h);
@@ -333,6 +363,16 @@ impl ContactStage {
                 self.bodies[i].integrate_position(h);
             }
             sweep(&mut self.bodies, solver::Pass::Relax);
+            // the impulse a constraint applied in this substep is its accumulated λ (the warm start
+            // applied the λ it started with, the sweeps the changes)
+            for (sum, k) in self.lambda_sums.iter_mut().zip(constraints.iter()) {
+                for (s, l) in sum.iter_mut().zip(k.lambda) {
+                    *s += l;
+                }
+            }
+        }
+        for ((p, sum), k) in self.impulses.iter_mut().zip(&self.lambda_sums).zip(constraints.iter()) {
+            *p += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
         }
         self.previous.clear();
         for (c, k) in self.contacts.iter().zip(&self.constraints) {

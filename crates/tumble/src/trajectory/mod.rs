@@ -26,6 +26,7 @@
 //! {"t":0.0,"bodies":[{"name":"a","position":[..],"orientation":[..],"velocity":[..],"angular_velocity":[..]}]}
 //! ```
 
+mod contacts;
 pub mod derived;
 mod monitor;
 pub mod read;
@@ -33,6 +34,7 @@ mod summary;
 mod writer;
 pub(crate) use writer::body_row;
 
+pub use contacts::ContactWriter;
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
 pub use summary::RobotSummary;

@@ -257,13 +257,13 @@ impl<W: Write> TrajectoryWriter<W> {
 
 /// Appends the shortest text that reads back to the same `f64` (the value must be finite).
 #[inline]
-fn push_f64(line: &mut Vec<u8>, x: f64) {
+pub(super) fn push_f64(line: &mut Vec<u8>, x: f64) {
     let mut buffer = ryu::Buffer::new();
     line.extend_from_slice(buffer.format_finite(x).as_bytes());
 }
 
 #[inline]
-fn push_array(line: &mut Vec<u8>, key: &[u8], values: &[f64]) {
+pub(super) fn push_array(line: &mut Vec<u8>, key: &[u8], values: &[f64]) {
     line.extend_from_slice(key);
     line.push(b'[');
     for (i, &x) in values.iter().enumerate() {

@@ -270,6 +270,12 @@ impl World {
         &mut self.contact
     }
 
+    /// The contacts of the last step, read only: [`ContactStage::contacts`], its
+    /// [`impulses`](ContactStage::impulses) and its [`active`](ContactStage::active) contacts.
+    pub fn contacts(&self) -> &ContactStage {
+        &self.contact
+    }
+
     /// Integrates every free body over one step and checks its state; `save`: keep each state from
     /// before the step in the same pass. On divergence, also the number of bodies stepped so far.
     fn integrate_free_bodies(&mut self, save: bool) -> Result<(), (usize, Diverged)> {
