@@ -399,6 +399,11 @@ fn u15_u17_mesh_paths_are_resolved_without_leaving_their_roots() {
         Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/urdf/meshes/hand.stl"))
     );
     assert_eq!(resolve_mesh(urdf, "/abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
+    // an empty host, `package:///name/…` (Talos's URDFs write it so)
+    assert_eq!(
+        resolve_mesh(urdf, "package:///example-robot-data/robots/panda_description/meshes/hand.stl"),
+        Ok(PathBuf::from("/data/example-robot-data/robots/panda_description/meshes/hand.stl"))
+    );
     assert_eq!(resolve_mesh(urdf, "file:///abs/hand.stl"), Ok(PathBuf::from("/abs/hand.stl")));
     for bad in [
         "package://example-robot-data/../../etc/passwd",
@@ -421,4 +426,64 @@ fn u15_u17_mesh_paths_are_resolved_without_leaving_their_roots() {
         "{:?}",
         model.warnings
     );
+}
+
+/// `<collision>` and `<visual>` geometry: every primitive with its size, meshes with scale and
+/// resolved file, each at its `<origin>` in the link frame, and placed on the body it moves with
+/// (through a fixed joint too); what cannot be used is left out with a warning naming the line.
+#[test]
+fn link_geometry_is_recorded_and_placed_on_its_body() {
+    use tumble::multibody::{GeometryRole, GeometryShape};
+    let arm = format!(
+        r#"<link name="arm">{INERTIAL}
+             <collision><origin xyz="0 0 -0.5"/><geometry><box size="0.1 0.2 1.0"/></geometry></collision>
+             <collision><origin xyz="0 0 -1" rpy="1.5707963267948966 0 0"/><geometry><cylinder radius="0.05" length="0.3"/></geometry></collision>
+             <visual><geometry><mesh filename="meshes/arm.stl" scale="0.001 -0.001 0.002"/></geometry></visual>
+             <collision><geometry><sphere radius="-1"/></geometry></collision>
+             <collision><geometry><capsule radius="0.1" length="1"/></geometry></collision>
+           </link>"#
+    );
+    let tool = r#"<link name="tool"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>"#;
+    let text = robot(&[
+        link("base"),
+        arm,
+        tool.into(),
+        r#"<joint name="shoulder" type="continuous"><parent link="base"/><child link="arm"/><origin xyz="0 0 2"/><axis xyz="1 0 0"/></joint>"#.into(),
+        r#"<joint name="mount" type="fixed"><parent link="arm"/><child link="tool"/><origin xyz="0 0.1 -1.2"/></joint>"#.into(),
+    ]);
+    let model = parse_urdf(&text, "/robots/r.urdf", UrdfOptions::default()).unwrap();
+    let g = &model.geometries;
+    assert_eq!(g.len(), 4, "{g:#?}");
+    assert_eq!((g[0].link.as_str(), g[0].role), ("arm", GeometryRole::Collision));
+    assert_eq!(g[0].shape, GeometryShape::Box { half_extents: DVec3::new(0.05, 0.1, 0.5) });
+    assert_eq!(g[1].shape, GeometryShape::Cylinder { radius: 0.05, half_length: 0.15 });
+    assert_eq!(g[2].role, GeometryRole::Visual);
+    assert_eq!(
+        g[2].shape,
+        GeometryShape::Mesh {
+            uri: "meshes/arm.stl".into(),
+            path: Some(PathBuf::from("/robots/meshes/arm.stl")),
+            scale: DVec3::new(0.001, -0.001, 0.002) // a mirror image
+        }
+    );
+    assert_eq!((g[3].link.as_str(), &g[3].shape), ("tool", &GeometryShape::Sphere { radius: 0.02 }));
+    // the negative radius and the unknown shape: warnings with their lines, nothing recorded
+    for (what, line) in [("radius = \"-1\"", 7), ("unknown geometry <capsule>", 8)] {
+        assert!(
+            model.warnings.iter().any(|w| w.contains(what) && w.contains(&format!("/robots/r.urdf:{line}:"))),
+            "{what}: {:?}",
+            model.warnings
+        );
+    }
+    // placements: the cylinder's centre 1 m down the arm, its axis turned from z to −y by the rpy;
+    // the tool's sphere on the arm's body through the fixed joint
+    let (body, x) = model.geometry_placement(&g[1]).unwrap();
+    let arm_body = model.frames[model.frame_index("arm").unwrap()].body;
+    assert_eq!(body, arm_body);
+    assert!((x.inv_apply_point(DVec3::ZERO) - DVec3::new(0.0, 0.0, -1.0)).length() < 1e-15);
+    let axis_in_body = x.rotation_a_from_b() * DVec3::Z;
+    assert!((axis_in_body - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-15, "{axis_in_body}");
+    let (body, x) = model.geometry_placement(&g[3]).unwrap();
+    assert_eq!(body, arm_body);
+    assert!((x.inv_apply_point(DVec3::ZERO) - DVec3::new(0.0, 0.1, -1.2)).length() < 1e-15);
 }

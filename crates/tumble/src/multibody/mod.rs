@@ -47,7 +47,10 @@ pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
 pub use joint::{JointKind, JointLimits};
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
-pub use model::{Body, Frame, FrameOrigin, Joint, MeshRef, ModelBuilder, ModelError, MultibodyModel};
+pub use model::{
+    Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,
+    MultibodyModel,
+};
 pub use rnea::{bias_forces, rnea};
 pub use simulate::{Control, Method, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};

@@ -112,6 +112,40 @@ pub struct MeshRef {
     pub line: u32,
 }
 
+/// Whether a link's geometry is for contact (`<collision>`) or for drawing (`<visual>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GeometryRole {
+    Collision,
+    Visual,
+}
+
+/// The shape of a link's geometry, in the geometry's own frame (SI units).
+#[derive(Debug, Clone, PartialEq)]
+pub enum GeometryShape {
+    /// `<box size>`: a box of these half extents about the geometry frame's origin (m).
+    Box { half_extents: DVec3 },
+    /// `<cylinder radius length>`: a cylinder about the geometry frame's z axis, centred (m).
+    Cylinder { radius: f64, half_length: f64 },
+    /// `<sphere radius>` (m).
+    Sphere { radius: f64 },
+    /// `<mesh filename scale>`: the file it resolves to (`None`: not resolved, with a warning)
+    /// and the scale per axis of the geometry frame (non-zero; a negative factor mirrors).
+    Mesh { uri: String, path: Option<std::path::PathBuf>, scale: DVec3 },
+}
+
+/// One `<collision>` or `<visual>` element of a link: its shape placed in the link frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkGeometry {
+    /// The link (a frame of the model).
+    pub link: String,
+    pub role: GeometryRole,
+    /// `geometry_X_link`: the geometry frame's placement in the link frame (its `<origin>`).
+    pub x_from_link: Xform,
+    pub shape: GeometryShape,
+    /// 1-based line of the `<collision>` or `<visual>` element.
+    pub line: u32,
+}
+
 /// The immutable model: the tree, joints, inertias and gravity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MultibodyModel {
@@ -131,6 +165,8 @@ pub struct MultibodyModel {
     pub warnings: Vec<String>,
     /// Meshes named by the source's geometry.
     pub meshes: Vec<MeshRef>,
+    /// Every `<collision>` and `<visual>` geometry of the links, in file order.
+    pub geometries: Vec<LinkGeometry>,
     nq: usize,
     nv: usize,
     /// Motion subspace columns, one per velocity coordinate (child frame).
@@ -222,6 +258,13 @@ impl MultibodyModel {
         self.frames.iter().position(|f| f.name == name)
     }
 
+    /// Where a link geometry sits: the body it is fixed to (`None`: the world) and
+    /// `geometry_X_body = geometry_X_link · link_X_body`. `None` if its link is not a frame.
+    pub fn geometry_placement(&self, geometry: &LinkGeometry) -> Option<(Option<usize>, Xform)> {
+        let frame = &self.frames[self.frame_index(&geometry.link)?];
+        Some((frame.body, geometry.x_from_link.compose(&frame.x_from_body)))
+    }
+
     /// `q̇ = G(q) v` for the whole tree, written into `qd` (lengths nq, nv, nq).
     pub fn coordinate_rate(&self, q: &[f64], v: &[f64], qd: &mut [f64]) -> Result<(), LengthError> {
         check_len("q", q.len(), self.nq)?;
@@ -259,6 +302,7 @@ pub struct ModelBuilder {
     world_inertia: RigidInertia,
     warnings: Vec<String>,
     meshes: Vec<MeshRef>,
+    geometries: Vec<LinkGeometry>,
     nq: usize,
     nv: usize,
 }
@@ -364,6 +408,11 @@ impl ModelBuilder {
         self.meshes.push(mesh);
     }
 
+    /// Records a link's collision or visual geometry.
+    pub fn add_geometry(&mut self, geometry: LinkGeometry) {
+        self.geometries.push(geometry);
+    }
+
     /// Records a non-fatal remark.
     pub fn warn(&mut self, message: impl Into<String>) {
         self.warnings.push(message.into());
@@ -416,6 +465,7 @@ impl ModelBuilder {
             world_inertia: self.world_inertia,
             warnings: self.warnings,
             meshes: self.meshes,
+            geometries: self.geometries,
             nq: self.nq,
             nv: self.nv,
             subspace,

@@ -32,7 +32,9 @@
 
 use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
-use super::model::{FrameOrigin, MeshRef, ModelBuilder, ModelError, MultibodyModel};
+use super::model::{
+    FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, MeshRef, ModelBuilder, ModelError, MultibodyModel,
+};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
 use crate::math::{DMat3, DVec3};
 use roxmltree::{Document, Node};
@@ -284,6 +286,7 @@ impl<'a, 'input> Parser<'a, 'input> {
         let mut link_index: HashMap<&str, usize> = HashMap::new();
         let mut joint_nodes: Vec<Node> = Vec::new();
         let mut meshes: Vec<MeshRef> = Vec::new();
+        let mut geometries: Vec<LinkGeometry> = Vec::new();
         for node in root.children().filter(|n| n.is_element()) {
             match node.tag_name().name() {
                 "link" => {
@@ -295,7 +298,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         );
                     }
                     let inertia = self.inertial(node, name, &mut warnings)?;
-                    self.meshes(node, name, &mut meshes, &mut warnings);
+                    self.geometries(node, name, &mut meshes, &mut geometries, &mut warnings);
                     link_index.insert(name, links.len());
                     links.push(Link { node, name, inertia });
                 }
@@ -463,6 +466,9 @@ impl<'a, 'input> Parser<'a, 'input> {
         for w in warnings {
             builder.warn(w);
         }
+        for g in geometries {
+            builder.add_geometry(g);
+        }
         for m in meshes {
             builder.add_mesh(m);
         }
@@ -477,28 +483,93 @@ impl<'a, 'input> Parser<'a, 'input> {
         })
     }
 
-    /// Records the `<mesh filename>` of a link's `<visual>` and `<collision>` elements, resolved.
-    fn meshes(&self, link: Node, name: &str, meshes: &mut Vec<MeshRef>, warnings: &mut Vec<String>) {
-        let geometries = link
-            .children()
-            .filter(|n| n.is_element() && matches!(n.tag_name().name(), "visual" | "collision"))
-            .filter_map(|n| child(n, "geometry"))
-            .filter_map(|g| child(g, "mesh"));
-        for mesh in geometries {
-            let line = self.line(mesh);
-            let Some(uri) = mesh.attribute("filename") else {
-                warnings.push(format!("{}:{}: link '{}': <mesh> without a filename", self.file, line, name));
+    /// Records each `<visual>` and `<collision>` element of a link: its `<origin>` and `<geometry>`
+    /// (box, cylinder, sphere, or mesh with its file resolved and its scale), and each mesh in
+    /// `meshes` too. A geometry that cannot be used (a missing or non-positive size, an unknown
+    /// shape, a bad `<origin>`) is left out with a warning naming its line: the dynamics needs none.
+    fn geometries(
+        &self,
+        link: Node,
+        name: &str,
+        meshes: &mut Vec<MeshRef>,
+        geometries: &mut Vec<LinkGeometry>,
+        warnings: &mut Vec<String>,
+    ) {
+        for element in link.children().filter(|n| n.is_element()) {
+            let role = match element.tag_name().name() {
+                "collision" => GeometryRole::Collision,
+                "visual" => GeometryRole::Visual,
+                _ => continue,
+            };
+            let line = self.line(element);
+            let tag = element.tag_name().name();
+            let skip = |warnings: &mut Vec<String>, why: String| {
+                warnings.push(format!("{}:{}: link '{}': <{}> left out: {}", self.file, line, name, tag, why));
+            };
+            let Some(geometry) = child(element, "geometry") else {
+                skip(warnings, "no <geometry>".into());
                 continue;
             };
-            let path = match resolve_mesh(Path::new(self.file), uri) {
-                Ok(path) => Some(path),
-                Err(why) => {
-                    warnings
-                        .push(format!("{}:{}: link '{}': mesh '{}' not resolved: {}", self.file, line, name, uri, why));
-                    None
+            let Some(shape_node) = geometry.children().find(|n| n.is_element()) else {
+                skip(warnings, "an empty <geometry>".into());
+                continue;
+            };
+            let x_from_link = match self.origin(element) {
+                Ok((rot, xyz)) => Xform::from_pose(rot, xyz),
+                Err(e) => {
+                    skip(warnings, format!("<origin>: {}", e.kind));
+                    continue;
                 }
             };
-            meshes.push(MeshRef { link: name.into(), uri: uri.into(), path, line });
+            let positive = |attribute: &'static str| -> Result<f64, String> {
+                let text = shape_node.attribute(attribute).ok_or(format!("no '{attribute}' attribute"))?;
+                match text.trim().parse::<f64>() {
+                    Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+                    _ => Err(format!("{attribute} = \"{text}\": expected a positive length (m)")),
+                }
+            };
+            let shape = match shape_node.tag_name().name() {
+                "box" if shape_node.attribute("size").is_none() => Err("<box> without a size".to_string()),
+                "box" => match self.vec3(shape_node, "size", DVec3::ZERO) {
+                    Ok(size) if size.is_finite() && size.min_element() > 0.0 => {
+                        Ok(GeometryShape::Box { half_extents: 0.5 * size })
+                    }
+                    Ok(size) => Err(format!("<box size> {:?}: expected three positive lengths (m)", size.to_array())),
+                    Err(e) => Err(format!("<box size>: {}", e.kind)),
+                },
+                "cylinder" => positive("radius").and_then(|radius| {
+                    positive("length").map(|length| GeometryShape::Cylinder { radius, half_length: 0.5 * length })
+                }),
+                "sphere" => positive("radius").map(|radius| GeometryShape::Sphere { radius }),
+                "mesh" => match shape_node.attribute("filename") {
+                    None => Err("<mesh> without a filename".to_string()),
+                    Some(uri) => match self.vec3(shape_node, "scale", DVec3::ONE) {
+                        // a negative factor mirrors the mesh (left and right parts share one file)
+                        Ok(scale) if scale.is_finite() && scale.abs().min_element() > 0.0 => {
+                            let mesh_line = self.line(shape_node);
+                            let path = match resolve_mesh(Path::new(self.file), uri) {
+                                Ok(path) => Some(path),
+                                Err(why) => {
+                                    warnings.push(format!(
+                                        "{}:{}: link '{}': mesh '{}' not resolved: {}",
+                                        self.file, mesh_line, name, uri, why
+                                    ));
+                                    None
+                                }
+                            };
+                            meshes.push(MeshRef { link: name.into(), uri: uri.into(), path: path.clone(), line: mesh_line });
+                            Ok(GeometryShape::Mesh { uri: uri.into(), path, scale })
+                        }
+                        Ok(scale) => Err(format!("<mesh scale> {:?}: expected three non-zero factors", scale.to_array())),
+                        Err(e) => Err(format!("<mesh scale>: {}", e.kind)),
+                    },
+                },
+                other => Err(format!("unknown geometry <{other}>")),
+            };
+            match shape {
+                Ok(shape) => geometries.push(LinkGeometry { link: name.into(), role, x_from_link, shape, line }),
+                Err(why) => skip(warnings, why),
+            }
         }
     }
 
@@ -719,6 +790,8 @@ fn cycle_from<'a, 'input>(
 pub fn resolve_mesh(urdf: &Path, uri: &str) -> Result<PathBuf, String> {
     let urdf_dir = urdf.parent().unwrap_or(Path::new(""));
     if let Some(rest) = uri.strip_prefix("package://") {
+        // `package:///name/…` (an empty host, as some robots write it) names the same package
+        let rest = rest.trim_start_matches('/');
         let (package, relative) = rest.split_once('/').ok_or("no path after the package name")?;
         let root = urdf_dir
             .ancestors()
