@@ -12,9 +12,12 @@
 //!   file ([`ChildOrder::File`], the default) or sorted by joint name ([`ChildOrder::JointName`], the
 //!   order Pinocchio's reader produces). Iterative: a chain of 10⁵ links does not grow the call stack.
 //! - With `floating`, a `floating` joint named `root_joint` connects the world to the root link.
-//! - `<mesh filename>` of visual and collision geometry is recorded in `model.meshes`, resolved by
-//!   [`resolve_mesh`] (`package://`, relative and absolute paths) but never read; what cannot be
-//!   resolved, or leaves its directory, gives a warning.
+//! - `<collision>` and `<visual>` elements are recorded in `model.geometries` (box, cylinder, sphere,
+//!   mesh with `scale`, each at its `<origin>` in the link frame; `geometry_placement` puts it on the
+//!   body it moves with); a geometry that cannot be used is left out with a warning naming its line.
+//!   `<mesh filename>` is also listed in `model.meshes`, resolved by [`resolve_mesh`] (`package://`,
+//!   relative and absolute paths) but not read here; what cannot be resolved, or leaves its
+//!   directory, gives a warning.
 //!
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
