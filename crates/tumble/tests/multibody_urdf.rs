@@ -487,3 +487,79 @@ fn link_geometry_is_recorded_and_placed_on_its_body() {
     assert_eq!(body, arm_body);
     assert!((x.inv_apply_point(DVec3::ZERO) - DVec3::new(0.0, 0.1, -1.2)).length() < 1e-15);
 }
+
+/// A unit cube as an ASCII STL: corners (0, 0, 0) … (1, 1, 1), twelve outward triangles.
+fn cube_stl() -> String {
+    let v = |i: u32| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64];
+    // two triangles per face, corners by index bits (x = 1, y = 2, z = 4), counter-clockwise outside
+    let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let mut s = String::from("solid cube\n");
+    for [a, b, c, d] in faces {
+        for tri in [[a, b, c], [a, c, d]] {
+            s.push_str("facet normal 0 0 0\nouter loop\n");
+            for i in tri {
+                let p = v(i);
+                s.push_str(&format!("vertex {} {} {}\n", p[0], p[1], p[2]));
+            }
+            s.push_str("endloop\nendfacet\n");
+        }
+    }
+    s.push_str("endsolid cube\n");
+    s
+}
+
+/// Link collision geometry as shapes on the bodies: primitives one to one, meshes read (scaled,
+/// mirrored) as convex hulls centred on their centre of mass; a missing file, a COLLADA mesh and an
+/// unresolved URI are errors naming the URDF line, the link and the path tried.
+#[test]
+fn link_collision_geometry_becomes_shapes_on_the_bodies() {
+    use tumble::body::Shape;
+    use tumble::multibody::link_shapes::collision_shapes;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    std::fs::write(dir.path().join("meshes/cube.stl"), cube_stl()).unwrap();
+    let urdf = dir.path().join("r.urdf");
+    let with = |collision: &str| {
+        robot(&[
+            link("base"),
+            format!(r#"<link name="arm">{INERTIAL}{collision}</link>"#),
+            r#"<joint name="shoulder" type="continuous"><parent link="base"/><child link="arm"/><origin xyz="0 0 2"/><axis xyz="1 0 0"/></joint>"#.into(),
+        ])
+    };
+    let shapes_of = |text: &str| {
+        let model = parse_urdf(text, urdf.to_str().unwrap(), UrdfOptions::default()).unwrap();
+        collision_shapes(&model, urdf.to_str().unwrap())
+    };
+    let text = with(
+        r#"<collision><origin xyz="0 0 -0.5"/><geometry><box size="0.1 0.2 1.0"/></geometry></collision>
+           <collision><origin xyz="0 0 -1"/><geometry><mesh filename="meshes/cube.stl" scale="0.1 0.1 0.1"/></geometry></collision>
+           <collision><origin xyz="0 0 -1"/><geometry><mesh filename="meshes/cube.stl" scale="-0.1 0.1 0.1"/></geometry></collision>
+           <visual><geometry><mesh filename="meshes/arm.dae"/></geometry></visual>"#,
+    );
+    let shapes = shapes_of(&text).unwrap();
+    assert_eq!(shapes.len(), 3, "visual geometry is not a collision shape");
+    assert!(shapes.iter().all(|s| s.link == "arm" && s.body == Some(0)));
+    assert_eq!(shapes[0].shape, Shape::Box { half_extents: DVec3::new(0.05, 0.1, 0.5) });
+    assert_eq!(shapes[0].position_body, DVec3::new(0.0, 0.0, -0.5));
+    // the 0.1 m cube's hull, centred on its centre of mass, which lies 0.05 m along each scaled axis
+    for (shape, com) in [(&shapes[1], DVec3::new(0.05, 0.05, -0.95)), (&shapes[2], DVec3::new(-0.05, 0.05, -0.95))] {
+        let Shape::Convex(hull) = &shape.shape else { panic!("{:?}", shape.shape) };
+        assert!((hull.volume - 1e-3).abs() < 1e-15, "volume {}", hull.volume);
+        assert!((shape.position_body - com).length() < 1e-15, "{:?}", shape.position_body);
+        let extent = hull.hull.vertices().iter().fold(DVec3::ZERO, |m, v| m.max(v.abs()));
+        assert!((extent - DVec3::splat(0.05)).length() < 1e-15);
+    }
+    // errors: the line of the <collision> element (line 3 of the file, the arm's link), the path tried
+    let missing = with(r#"<collision><geometry><mesh filename="meshes/gone.stl"/></geometry></collision>"#);
+    let e = shapes_of(&missing).unwrap_err().to_string();
+    assert!(
+        e.contains("r.urdf:3: link 'arm': <collision>: mesh 'meshes/gone.stl'") && e.contains("meshes/gone.stl)"),
+        "{e}"
+    );
+    let dae = with(r#"<collision><geometry><mesh filename="meshes/arm.dae"/></geometry></collision>"#);
+    let e = shapes_of(&dae).unwrap_err().to_string();
+    assert!(e.contains("mesh 'meshes/arm.dae'") && e.contains(".dae"), "{e}");
+    let unresolved = with(r#"<collision><geometry><mesh filename="package://nowhere/a.stl"/></geometry></collision>"#);
+    let e = shapes_of(&unresolved).unwrap_err().to_string();
+    assert!(e.contains("mesh 'package://nowhere/a.stl' could not be resolved"), "{e}");
+}

@@ -32,6 +32,7 @@ pub mod energy;
 pub mod fk;
 pub mod jacobian;
 pub mod joint;
+pub mod link_shapes;
 pub mod ltdl;
 pub mod model;
 pub mod rnea;

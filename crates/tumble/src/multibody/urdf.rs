@@ -560,10 +560,17 @@ impl<'a, 'input> Parser<'a, 'input> {
                                     None
                                 }
                             };
-                            meshes.push(MeshRef { link: name.into(), uri: uri.into(), path: path.clone(), line: mesh_line });
+                            meshes.push(MeshRef {
+                                link: name.into(),
+                                uri: uri.into(),
+                                path: path.clone(),
+                                line: mesh_line,
+                            });
                             Ok(GeometryShape::Mesh { uri: uri.into(), path, scale })
                         }
-                        Ok(scale) => Err(format!("<mesh scale> {:?}: expected three non-zero factors", scale.to_array())),
+                        Ok(scale) => {
+                            Err(format!("<mesh scale> {:?}: expected three non-zero factors", scale.to_array()))
+                        }
                         Err(e) => Err(format!("<mesh scale>: {}", e.kind)),
                     },
                 },
