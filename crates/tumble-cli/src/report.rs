@@ -71,6 +71,15 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
     row("bodies", format!("{} ({} moving)", s.bodies, s.free_bodies));
     for r in &s.robots {
         row("robot", format!("{}: {} base, nv = {}, {} links written", r.name, r.base, r.nv, r.links));
+        let steps = |list: &[tumble::trajectory::JointStepsSummary]| {
+            list.iter().map(|c| format!("{} ({} steps)", c.joint, c.steps)).collect::<Vec<_>>().join(", ")
+        };
+        if !r.effort_clamped.is_empty() {
+            row("  effort clamped", steps(&r.effort_clamped));
+        }
+        if !r.joint_limits_active.is_empty() {
+            row("  at a joint limit", steps(&r.joint_limits_active));
+        }
     }
     row("integrator", format!("{}, dt = {} s", s.integrator, s.dt));
     row("steps", format!("{}{stopped}", s.steps));

@@ -35,7 +35,7 @@ pub(crate) use writer::body_row;
 
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
-pub use summary::RobotSummary;
+pub use summary::{JointStepsSummary, RobotSummary};
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
 pub use writer::{TrajectoryWriter, CSV_HEADER};
 
