@@ -99,6 +99,10 @@ pub fn table(summary: &Summary, trajectory: &Path, format: Format, summary_path:
             momentum = note(&momentum, "the fixed bodies' contact impulses change it");
         }
     }
+    if s.robots.iter().any(|r| !r.joint_limits_active.is_empty()) {
+        // a strike on a joint limit is perfectly inelastic (docs/multibody.md, joint limits)
+        energy = note(&energy, "joint-limit strikes took energy out");
+    }
     row("energy error", energy);
     row("angular momentum error", momentum);
     let flips = if s.flips.is_empty() {

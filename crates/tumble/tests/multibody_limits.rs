@@ -325,4 +325,3 @@ fn effort_limits_clamp_commanded_forces_but_not_damping() {
     assert!((tau + 1000.0).abs() < 1e-6 * 1000.0 + 1.0, "damping applied {tau} N·m");
     assert!(!flagged);
 }
-

@@ -284,7 +284,9 @@ impl JointLimitSolver {
         for coord in 0..self.limited.len() {
             let l = self.limited[coord];
             for side in 0..2 {
-                if self.forced[coord][side] || self.rows.iter().any(|r| r.coord == coord && (r.sign > 0.0) == (side == 0)) {
+                if self.forced[coord][side]
+                    || self.rows.iter().any(|r| r.coord == coord && (r.sign > 0.0) == (side == 0))
+                {
                     continue;
                 }
                 let (b, _) = self.demand(phase, h, coord, side, q[l.q_index], v[l.v_index]);

@@ -496,7 +496,11 @@ pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
         out,
         "  joint limits: {}; effort limits: {}",
         if robot.joint_limits_enforced() { format!("enforced on {limited} joints") } else { "off".to_string() },
-        if clamped > 0 { format!("commanded forces clamped on {clamped} joints") } else { "off".to_string() }
+        if clamped > 0 {
+            format!("commanded forces clamped to the URDF effort on {clamped} joints")
+        } else {
+            "off".to_string()
+        }
     );
     for b in &m.bodies {
         let j = &b.joint;
