@@ -15,6 +15,11 @@
 //! | `rk4`                           | classical RK4                                             |
 //! | `dopri5`, `splitting`, `splitting4` | RK4 at the world's `dt` (no adaptive or split form for trees) |
 //!
+//! **Limits.** A robot made by a scene holds its URDF joint position limits (`joint_limits`, see
+//! [`crate::multibody::limits`]) and clamps its commanded joint forces to the URDF efforts
+//! (`effort_limits`, [`Control::set_effort_limits`]); it counts, per joint, the steps in which each
+//! happened ([`Robot::limit_activity`], [`Robot::effort_clamps`]) for the run report.
+//!
 //! **Divergence.** After each step every `q` and `v` entry of every robot must be finite and at most
 //! [`MAX_STATE_MAGNITUDE`](super::MAX_STATE_MAGNITUDE) in magnitude; otherwise the step is undone (for
 //! the bodies and for every robot) and the error names the robot, the joint, the step and the time.
