@@ -74,7 +74,8 @@ pub enum Phase {
     Impact,
     /// Phase 2, at the end of the step: zero end gap through `Δq = c h Δv` (`c > 0`).
     Force { c: f64 },
-    /// Phase 2 of explicit Euler: the velocity condition of phase 1 at the end state.
+    /// Phase 2′, at the end of the step: the velocity condition of phase 1 at the end state (all of
+    /// phase 2 for explicit Euler, whose `q₁` a force cannot move).
     EndVelocity,
 }
 
