@@ -389,7 +389,8 @@ impl JointLimitSolver {
         for col in 0..m {
             let p = (col..m).max_by(|&a, &b| k[(a, col)].abs().total_cmp(&k[(b, col)].abs())).unwrap_or(col);
             // a pivot at round-off of K's scale: K_BB is singular (a joint with lower = upper)
-            if !(k[(p, col)].abs() > 1e-13 * k_max) {
+            let pivot = k[(p, col)].abs();
+            if pivot.is_nan() || pivot <= 1e-13 * k_max {
                 return false;
             }
             if p != col {
@@ -428,7 +429,7 @@ impl JointLimitSolver {
                 // λ_r ← max(0, λ_r − (Σ_s K_rs λ_s − b_r) / K_rr)
                 let w: f64 = (0..n).map(|s| self.k[(r, s)] * self.lambda[s]).sum::<f64>() - self.rows[r].b;
                 let k_rr = self.k[(r, r)];
-                if !(k_rr > 0.0) {
+                if k_rr.is_nan() || k_rr <= 0.0 {
                     continue;
                 }
                 let next = (self.lambda[r] - w / k_rr).max(0.0);
