@@ -77,6 +77,15 @@ pub fn table(
     row("bodies", format!("{} ({} moving)", s.bodies, s.free_bodies));
     for r in &s.robots {
         row("robot", format!("{}: {} base, nv = {}, {} links written", r.name, r.base, r.nv, r.links));
+        let steps = |list: &[tumble::trajectory::JointStepsSummary]| {
+            list.iter().map(|c| format!("{} ({} steps)", c.joint, c.steps)).collect::<Vec<_>>().join(", ")
+        };
+        if !r.effort_clamped.is_empty() {
+            row("  effort clamped", steps(&r.effort_clamped));
+        }
+        if !r.joint_limits_active.is_empty() {
+            row("  at a joint limit", steps(&r.joint_limits_active));
+        }
     }
     row("integrator", format!("{}, dt = {} s", s.integrator, s.dt));
     row("steps", format!("{}{stopped}", s.steps));
@@ -95,6 +104,10 @@ pub fn table(
         if s.bodies > s.free_bodies {
             momentum = note(&momentum, "the fixed bodies' contact impulses change it");
         }
+    }
+    if s.robots.iter().any(|r| !r.joint_limits_active.is_empty()) {
+        // a strike on a joint limit is perfectly inelastic (docs/multibody.md, joint limits)
+        energy = note(&energy, "joint-limit strikes took energy out");
     }
     row("energy error", energy);
     row("angular momentum error", momentum);

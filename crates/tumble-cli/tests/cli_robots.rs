@@ -151,3 +151,98 @@ fn a_diverging_robot_exits_3_naming_it() {
     let rows = parse_csv(&fs::read_to_string(dir.path().join("o.csv")).unwrap());
     assert_eq!(rows.len(), 3);
 }
+
+/// `scenes/limit.toml`: the arm falls onto its shoulder and elbow limits and rests there; the final
+/// `q` is at both limits (within 1e-4 rad), the report says which joints sat at their limits and that
+/// the strikes took energy out, and the energy never rose from one sample to the next.
+#[test]
+fn the_limit_scene_rests_against_both_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes().join("limit.toml");
+    let output = tumble(dir.path())
+        .args(["run", scene.to_str().unwrap(), "--out", "l.jsonl", "--summary", "s.json"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        stdout.contains("at a joint limit") && stdout.contains("shoulder (") && stdout.contains("elbow ("),
+        "{stdout}"
+    );
+    assert!(stdout.contains("joint-limit strikes took energy out"), "{stdout}");
+    let text = fs::read_to_string(dir.path().join("l.jsonl")).unwrap();
+    let samples: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let q = |s: &serde_json::Value, k: usize| s["robots"][0]["q"][k].as_f64().unwrap();
+    let last = samples.last().unwrap();
+    eprintln!("limit scene: final q = [{}, {}] against limits [0.6, −0.3]", q(last, 0), q(last, 1));
+    assert!((q(last, 0) - 0.6).abs() < 1e-4 && (q(last, 1) + 0.3).abs() < 1e-4);
+    for s in &samples {
+        assert!(q(s, 0) >= 0.6 - 1e-4 && q(s, 1) >= -0.3 - 1e-4, "past a limit at t = {}", s["t"]);
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    let active = &summary["robots"][0]["joint_limits_active"];
+    assert_eq!(active.as_array().unwrap().len(), 2, "{summary}");
+}
+
+/// A PD of gain 1e4 N·m/rad, 1 rad from its target, on the Panda's first joint (effort 87 N·m): the report names the clamped joint
+/// and the summary counts its steps; with `effort_limits = false` nothing is clamped.
+#[test]
+fn the_report_says_when_effort_limits_clamp() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("robots")).unwrap();
+    fs::copy(scenes().join("robots/panda.urdf"), dir.path().join("robots/panda.urdf")).unwrap();
+    let scene = |effort: &str| {
+        format!(
+            "version = 1\n[world]\ndt = 0.001\nduration = 0.2\n[[robot]]\nname = \"panda\"\nurdf = \
+             \"robots/panda.urdf\"\nq = {{ panda_joint4 = -2.0 }}\n{effort}\n[robot.pd]\npanda_joint1 = {{ target = 1.0, \
+             kp = 1e4, kd = 0.0 }}\n"
+        )
+    };
+    fs::write(dir.path().join("on.toml"), scene("")).unwrap();
+    fs::write(dir.path().join("off.toml"), scene("effort_limits = false")).unwrap();
+    for (file, clamps) in [("on.toml", true), ("off.toml", false)] {
+        let output = tumble(dir.path()).args(["run", file, "--out", "o.csv", "--summary", "s.json"]).output().unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+        let summary: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+        let clamped = &summary["robots"][0]["effort_clamped"];
+        if clamps {
+            assert!(stdout.contains("effort clamped") && stdout.contains("panda_joint1 ("), "{stdout}");
+            assert_eq!(clamped[0]["joint"], "panda_joint1", "{summary}");
+            assert!(clamped[0]["steps"].as_u64().unwrap() > 100, "{summary}");
+        } else {
+            assert!(!stdout.contains("effort clamped"), "{stdout}");
+            assert!(clamped.is_null(), "{summary}");
+        }
+    }
+}
+
+#[test]
+fn bad_limit_keys_exit_2_naming_the_file_line_and_field() {
+    let e = bad_scene(&format!("{HEAD}urdf = \"robots/dp.urdf\"\njoint_limits = 3\n"));
+    assert!(e.contains("s.toml:5:") && e.contains("joint_limits") && e.contains("bool"), "{e}");
+    let e = bad_scene(&format!("{HEAD}urdf = \"robots/dp.urdf\"\neffort_limits = \"yes\"\n"));
+    assert!(e.contains("s.toml:5:") && e.contains("effort_limits") && e.contains("bool"), "{e}");
+}
+
+/// A joint that starts outside its limit is a warning naming the robot, the joint, its value and
+/// the limit (the run goes on).
+#[test]
+fn a_joint_starting_outside_its_limit_is_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("robots")).unwrap();
+    fs::copy(scenes().join("robots/limited_arm.urdf"), dir.path().join("robots/arm.urdf")).unwrap();
+    let text = "version = 1\n[world]\nduration = 0.01\n[[robot]]\nname = \"arm\"\nurdf = \"robots/arm.urdf\"\nq = { shoulder = 1.0, elbow = 0.5 }\n";
+    fs::write(dir.path().join("s.toml"), text).unwrap();
+    let output = tumble(dir.path()).args(["run", "s.toml", "--out", "o.csv"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("s.toml:7:")
+            && stderr.contains("robot `arm`: joint `elbow` starts at q = 0.5 rad, above its upper limit [-0.3, 0.3]"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("`shoulder` starts"), "{stderr}");
+}

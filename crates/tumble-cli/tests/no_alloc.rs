@@ -76,9 +76,10 @@ fn the_run_loop_allocates_nothing_per_step() {
     }
 }
 
-/// The same for a robot scene (`scenes/panda.toml`: PD control, damping, nine joints).
-fn robot_allocations(integrator: Integrator, format: Format, steps: u64) -> usize {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/panda.toml");
+/// The same for a robot scene (`scenes/panda.toml`: PD control, damping, nine joints; or
+/// `scenes/limit.toml`: an arm striking and resting on its joint limits from step ~200 on).
+fn robot_allocations(scene: &str, integrator: Integrator, format: Format, steps: u64) -> usize {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(scene);
     let mut world = tumble::scene::load(&path).unwrap().world;
     world.config.integrator = integrator;
     world.config.duration = steps as f64 * world.config.dt;
@@ -98,9 +99,16 @@ fn robot_allocations(integrator: Integrator, format: Format, steps: u64) -> usiz
 fn the_run_loop_allocates_nothing_per_step_with_robots() {
     for integrator in Integrator::ALL {
         for format in [Format::Csv, Format::JsonLines] {
-            let short = robot_allocations(integrator, format, 100);
-            let long = robot_allocations(integrator, format, 1000);
+            let short = robot_allocations("panda.toml", integrator, format, 100);
+            let long = robot_allocations("panda.toml", integrator, format, 1000);
             assert_eq!(short, long, "{integrator} {format:?}: {short} allocations for 100 steps, {long} for 1000");
+            // the limits are struck at about step 200 and held from step 550 on
+            let short = robot_allocations("limit.toml", integrator, format, 600);
+            let long = robot_allocations("limit.toml", integrator, format, 2000);
+            assert_eq!(
+                short, long,
+                "limits, {integrator} {format:?}: {short} allocations for 600 steps, {long} for 2000"
+            );
         }
     }
 }

@@ -135,7 +135,9 @@ impl Model {
     }
 
     /// A model of one robot read from a URDF file (its name: the file's stem), at the neutral
-    /// configuration, with the default world (gravity −9.81 m/s² along z, `dt` = 1 ms, RK4).
+    /// configuration, with the default world (gravity −9.81 m/s² along z, `dt` = 1 ms, RK4) and the
+    /// scene defaults: its joint position limits hold and its commanded forces are clamped to the
+    /// URDF efforts.
     /// `floating`: a free-flying base (`q` starts `[x, y, z, qw, qx, qy, qz]`).
     #[staticmethod]
     #[pyo3(signature = (path, floating = false))]

@@ -122,7 +122,8 @@ impl World {
     }
 
     /// Joint forces of a robot (nv, N·m or N), added to the scene's constant ones from the next step
-    /// on, until set again. `robot`: name or index (default: the only robot).
+    /// on, until set again; the sum (with the PD) is clamped to the URDF efforts unless the scene says
+    /// `effort_limits = false`. `robot`: name or index (default: the only robot).
     #[pyo3(signature = (robot, tau))]
     fn set_torque(&mut self, robot: &Bound<'_, PyAny>, tau: &Bound<'_, PyAny>) -> PyResult<()> {
         let r = self.robot(Some(robot))?;

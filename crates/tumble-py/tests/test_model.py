@@ -61,6 +61,24 @@ def test_from_urdf_fixed_and_floating():
     assert np.allclose(x[7 : floating.nq()], 0.0, atol=1e-12)
 
 
+def test_from_urdf_holds_joint_limits_and_clamps_efforts():
+    """The scene defaults go through `from_urdf`: the shoulder of `limited_arm.urdf` (limits
+    [0.6, 2.5] rad, effort 40 N·m) pushed by 100 N·m stops at its upper limit, and moves exactly as
+    when pushed by 40 N·m (the clamp)."""
+    m = tumble.Model.from_urdf(SCENES / "robots" / "limited_arm.urdf")
+    worlds = []
+    for tau in (100.0, 40.0):
+        w = tumble.World(m)
+        w.set_state(np.array([1.0, 0.0, 0.0, 0.0]))  # q = [1, 0], v = 0
+        w.set_torque(0, [tau, 0.0])
+        w.step(3000)
+        worlds.append(w)
+    x = worlds[0].state()
+    assert abs(x[0] - 2.5) < 1e-4  # at the upper limit, not past it
+    assert abs(x[2]) < 1e-6  # and at rest there
+    assert np.array_equal(x, worlds[1].state())
+
+
 def test_pickle_round_trip_gives_the_same_simulation(pendulum):
     copy = pickle.loads(pickle.dumps(pendulum))
     assert isinstance(copy, tumble.Model) and copy.nstate == pendulum.nstate

@@ -115,7 +115,8 @@ class World:
     def angular_momentum(self) -> _F64:
         """Total angular momentum about the world origin, world frame (kg·m²/s), shape (3,)."""
     def set_torque(self, robot: _Robot, tau: _ArrayLike) -> None:
-        """Joint forces of a robot (nv,), added to the scene's from the next step on."""
+        """Joint forces of a robot (nv,), added to the scene's from the next step on (clamped with
+        them to the URDF efforts unless the scene says `effort_limits = false`)."""
     def set_pd_target(
         self,
         robot: _Robot,

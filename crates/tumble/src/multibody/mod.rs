@@ -19,6 +19,7 @@
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
+//! | [`limits`]    | joint position limits: speculative impulse + constraint force | `O(n d)` when active |
 //!
 //! Model vs state: a [`MultibodyModel`] never changes; `q` and `v` are plain slices, and every
 //! algorithm is a free function `f(&model, &mut workspace, q, v, ...)` that allocates nothing.
@@ -32,6 +33,7 @@ pub mod energy;
 pub mod fk;
 pub mod jacobian;
 pub mod joint;
+pub mod limits;
 pub mod link_shapes;
 pub mod ltdl;
 pub mod model;
@@ -47,6 +49,7 @@ pub use energy::{center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
 pub use joint::{JointKind, JointLimits};
+pub use limits::JointLimitSolver;
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{
     Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,

@@ -1,8 +1,14 @@
 //! Time integration of a tree: `q̇ = G(q) v`, `v̇ = ABA(q, v, τ(q, v))`.
 //!
 //! The joint forces come from a [`Control`]: a constant force per velocity coordinate, joint
-//! damping, and PD targets, `τ = τ_const − c v + k_p (q* − q) + k_d (v* − v)` (PD and damping on
-//! one-coordinate joints only; spherical and floating joints take `τ_const`).
+//! damping, and PD targets, `τ = clamp(τ_const + k_p (q* − q) + k_d (v* − v), ±τ_max) − c v` (PD and
+//! damping on one-coordinate joints only; spherical and floating joints take `τ_const`). The
+//! commanded part is clamped to the joint's effort limit `τ_max` where one is set
+//! ([`Control::effort`]); damping is a passive force and is not clamped.
+//!
+//! Joint position limits ([`JointLimitSolver`], enabled by [`Simulator::set_joint_limits`]) act in
+//! two phases around the integrator: an inelastic, speculative impulse at the start of the step and
+//! a constraint force over the step applied at its end (see [`super::limits`]).
 //!
 //! Integrators: `rk4` (classical, 4th order; `q` moves through ℝ^nq and quaternions are renormalised
 //! at the end of each step, which keeps the order) and `semi_implicit_euler`
@@ -12,6 +18,7 @@
 
 use super::aba::{aba, AbaError};
 use super::joint::JointKind;
+use super::limits::{JointLimitSolver, Phase};
 use super::model::{Joint, MultibodyModel};
 use super::workspace::{check_len, LengthError, Workspace};
 
@@ -31,6 +38,9 @@ pub struct Control {
     pub q_target: Vec<f64>,
     /// Velocity targets `v*` (length nv).
     pub v_target: Vec<f64>,
+    /// Effort limits `τ_max > 0` (N·m or N) clamping the commanded force `τ_const + PD` of each
+    /// velocity coordinate to `[−τ_max, τ_max]`; `f64::INFINITY` for none (length nv).
+    pub effort: Vec<f64>,
 }
 
 impl Control {
@@ -44,6 +54,23 @@ impl Control {
             kd: vec![0.0; nv],
             q_target: model.neutral_configuration(),
             v_target: vec![0.0; nv],
+            effort: vec![f64::INFINITY; nv],
+        }
+    }
+
+    /// Sets [`effort`](Self::effort) from the URDF: each one-coordinate joint whose `<limit effort>`
+    /// is positive is clamped to it (an `effort` of 0, which some URDFs write for "unspecified",
+    /// leaves the joint unclamped).
+    pub fn set_effort_limits(&mut self, model: &MultibodyModel) {
+        for body in &model.bodies {
+            let j = &body.joint;
+            if j.kind.nv() != 1 {
+                continue;
+            }
+            self.effort[j.v_index] = match j.limits.effort {
+                Some(e) if e > 0.0 && e.is_finite() => e,
+                _ => f64::INFINITY,
+            };
         }
     }
 
@@ -59,6 +86,13 @@ impl Control {
         check_len("q", q.len(), model.nq())?;
         check_len("v", v.len(), model.nv())?;
         check_len("tau", tau.len(), model.nv())?;
+        self.forces(model, q, v, tau, None);
+        Ok(())
+    }
+
+    /// `τ(q, v)` (lengths checked by the caller); `clamped[k]` is set where the effort limit cut
+    /// coordinate `k`'s commanded force.
+    fn forces(&self, model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64], mut clamped: Option<&mut [bool]>) {
         tau.copy_from_slice(&self.tau);
         for body in &model.bodies {
             let j = &body.joint;
@@ -66,12 +100,26 @@ impl Control {
                 continue;
             }
             let (qi, vi) = (j.q_index, j.v_index);
-            // τ += −c v + k_p (q* − q) + k_d (v* − v)
-            tau[vi] += -self.damping[vi] * v[vi]
-                + self.kp[vi] * (self.q_target[qi] - q[qi])
-                + self.kd[vi] * (self.v_target[vi] - v[vi]);
+            let limit = self.effort[vi];
+            if limit == f64::INFINITY {
+                // τ += −c v + k_p (q* − q) + k_d (v* − v)
+                tau[vi] += -self.damping[vi] * v[vi]
+                    + self.kp[vi] * (self.q_target[qi] - q[qi])
+                    + self.kd[vi] * (self.v_target[vi] - v[vi]);
+                continue;
+            }
+            // commanded: τ_const + k_p (q* − q) + k_d (v* − v), clamped to ±τ_max
+            let commanded =
+                tau[vi] + self.kp[vi] * (self.q_target[qi] - q[qi]) + self.kd[vi] * (self.v_target[vi] - v[vi]);
+            let applied = commanded.max(-limit).min(limit);
+            if applied != commanded {
+                if let Some(c) = clamped.as_deref_mut() {
+                    c[vi] = true;
+                }
+            }
+            // passive: −c v (not clamped)
+            tau[vi] = applied - self.damping[vi] * v[vi];
         }
-        Ok(())
     }
 
     fn check(&self, model: &MultibodyModel) -> Result<(), LengthError> {
@@ -81,7 +129,8 @@ impl Control {
         check_len("control kp", self.kp.len(), nv)?;
         check_len("control kd", self.kd.len(), nv)?;
         check_len("control q_target", self.q_target.len(), model.nq())?;
-        check_len("control v_target", self.v_target.len(), nv)
+        check_len("control v_target", self.v_target.len(), nv)?;
+        check_len("control effort", self.effort.len(), nv)
     }
 }
 
@@ -110,6 +159,10 @@ pub struct Simulator {
     k_v: [Vec<f64>; 4],
     q_stage: Vec<f64>,
     v_stage: Vec<f64>,
+    /// Joint position limits, when enforced.
+    limits: Option<JointLimitSolver>,
+    /// Coordinates whose commanded force was clamped during the last step (nv).
+    clamped: Vec<bool>,
 }
 
 impl Simulator {
@@ -128,7 +181,26 @@ impl Simulator {
             k_v: std::array::from_fn(|_| vec![0.0; nv]),
             q_stage: vec![0.0; nq],
             v_stage: vec![0.0; nv],
+            limits: None,
+            clamped: vec![false; nv],
         })
+    }
+
+    /// Enforces (or not) the position limits of `model`'s revolute and prismatic joints. Off by
+    /// default; with no limited joint it stays off.
+    pub fn set_joint_limits(&mut self, model: &MultibodyModel, on: bool) {
+        self.limits = if on { JointLimitSolver::new(model, &mut self.ws) } else { None };
+    }
+
+    /// The joint-limit solver, when limits are enforced (which joints, how often they pushed).
+    pub fn joint_limits(&self) -> Option<&JointLimitSolver> {
+        self.limits.as_ref()
+    }
+
+    /// Per velocity coordinate: whether its commanded force was clamped to its effort limit during
+    /// the last step (at any stage of it).
+    pub fn clamped(&self) -> &[bool] {
+        &self.clamped
     }
 
     /// The workspace (poses and velocities of the last evaluation).
@@ -144,11 +216,17 @@ impl Simulator {
         check_len("v (simulator state)", self.v.len(), model.nv())?;
         check_len("q (the model the simulator was made for)", self.q_stage.len(), model.nq())?;
         check_len("v (the model the simulator was made for)", self.v_stage.len(), model.nv())?;
+        self.clamped.fill(false);
+        if let Some(limits) = &mut self.limits {
+            // phase 1: the speculative, inelastic impulse at (q₀, v₀)
+            limits.begin_step(&self.q);
+            limits.apply(model, &mut self.ws, Phase::Impact, dt, &mut self.q, &mut self.v);
+        }
         match method {
             Method::Rk4 => self.rk4(model, control, dt)?,
             Method::SemiImplicitEuler => {
                 // v ← v + dt v̇(q, v);  q ← q ⊕ v dt
-                control.joint_forces(model, &self.q, &self.v, &mut self.tau)?;
+                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 for (v, a) in self.v.iter_mut().zip(&self.k_v[0]) {
                     *v += dt * a;
@@ -158,7 +236,7 @@ impl Simulator {
             }
             Method::Euler => {
                 // q ← q ⊕ v dt and v ← v + dt v̇(q, v), from the old (q, v)
-                control.joint_forces(model, &self.q, &self.v, &mut self.tau)?;
+                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 self.q_stage.copy_from_slice(&self.q);
                 model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
@@ -166,6 +244,21 @@ impl Simulator {
                     *v += dt * a;
                 }
             }
+        }
+        if let Some(limits) = &mut self.limits {
+            // phase 2: the constraint force over the step, Δq = c h Δv (c = ½ for RK4, 1 for
+            // semi-implicit Euler); explicit Euler's q cannot move, its v meets phase 1's condition
+            // (then the velocity condition of phase 1 at the end state removes what is left of the
+            // velocity into the limit: RK4's acceleration is not exactly constant over the step)
+            match method {
+                Method::Rk4 => limits.apply(model, &mut self.ws, Phase::Force { c: 0.5 }, dt, &mut self.q, &mut self.v),
+                Method::SemiImplicitEuler => {
+                    limits.apply(model, &mut self.ws, Phase::Force { c: 1.0 }, dt, &mut self.q, &mut self.v)
+                }
+                Method::Euler => {}
+            }
+            limits.apply(model, &mut self.ws, Phase::EndVelocity, dt, &mut self.q, &mut self.v);
+            limits.end_step();
         }
         self.t += dt;
         Ok(())
@@ -188,7 +281,7 @@ impl Simulator {
                 }
             }
             model.coordinate_rate(&self.q_stage, &self.v_stage, &mut self.k_q[s])?;
-            control.joint_forces(model, &self.q_stage, &self.v_stage, &mut self.tau)?;
+            control.forces(model, &self.q_stage, &self.v_stage, &mut self.tau, Some(&mut self.clamped));
             aba(model, &mut self.ws, &self.q_stage, &self.v_stage, &self.tau, &mut self.k_v[s])?;
         }
         // y ← y + dt/6 (k1 + 2 k2 + 2 k3 + k4)

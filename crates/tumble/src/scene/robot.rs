@@ -115,8 +115,54 @@ impl RobotReader<'_, '_> {
                 v[vi..vi + kind.nv()].copy_from_slice(&values);
             }
         }
-        let control = self.control(doc, &model)?;
-        Robot::new(name, model, control, q, v).map_err(|e| self.src.error(self.span, self.path, e.to_string()))
+        let mut control = self.control(doc, &model)?;
+        let joint_limits = doc.joint_limits.as_ref().is_none_or(|b| b.value);
+        if doc.effort_limits.as_ref().is_none_or(|b| b.value) {
+            control.set_effort_limits(&model);
+        }
+        if joint_limits {
+            self.warn_outside_limits(doc, &model, &q);
+        }
+        let mut robot =
+            Robot::new(name, model, control, q, v).map_err(|e| self.src.error(self.span, self.path, e.to_string()))?;
+        robot.set_joint_limits(joint_limits);
+        Ok(robot)
+    }
+
+    /// A warning for each joint that starts outside its position limits: the limit then stops it
+    /// from moving further out and lets it come back, without pushing it in.
+    fn warn_outside_limits(&mut self, doc: &RobotDoc, model: &MultibodyModel, q: &[f64]) {
+        for b in &model.bodies {
+            let j = &b.joint;
+            let Some((lower, upper)) = j.limits.position else { continue };
+            if !matches!(j.kind, JointKind::Revolute { .. } | JointKind::Prismatic { .. }) {
+                continue;
+            }
+            let value = q[j.q_index];
+            let side = if value < lower {
+                "below its lower limit"
+            } else if value > upper {
+                "above its upper limit"
+            } else {
+                continue;
+            };
+            let unit = if matches!(j.kind, JointKind::Prismatic { .. }) { "m" } else { "rad" };
+            let given = doc.q.as_ref().and_then(|t| t.value.0.iter().find(|(name, _)| *name == j.name));
+            let (span, key) = match given {
+                Some((_, loc)) => (loc.span.as_ref(), self.at(&format!("q.{}", j.name))),
+                None => (self.span, self.path.to_string()),
+            };
+            let robot = doc.name.as_ref().map_or("", |n| n.value.as_str());
+            let text = format!(
+                "robot `{robot}`: joint `{}` starts at q = {} {unit}, {side} [{}, {}]: the limit stops it from moving further out \
+                 and lets it come back (it is not pushed in); `joint_limits = false` ignores the limits",
+                j.name,
+                num(value),
+                num(lower),
+                num(upper)
+            );
+            self.warnings.push(self.src.warning(span, &key, &text));
+        }
     }
 
     fn name(&self, doc: &RobotDoc, taken: &mut Taken) -> Result<String, SceneError> {
@@ -444,6 +490,18 @@ pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
         robot.link_names().len()
     );
     let c = &robot.control;
+    let limited = m.bodies.iter().filter(|b| b.joint.limits.position.is_some() && b.joint.kind.nv() == 1).count();
+    let clamped = c.effort.iter().filter(|e| e.is_finite()).count();
+    let _ = writeln!(
+        out,
+        "  joint limits: {}; effort limits: {}",
+        if robot.joint_limits_enforced() { format!("enforced on {limited} joints") } else { "off".to_string() },
+        if clamped > 0 {
+            format!("commanded forces clamped to the URDF effort on {clamped} joints")
+        } else {
+            "off".to_string()
+        }
+    );
     for b in &m.bodies {
         let j = &b.joint;
         let (qi, vi) = (j.q_index, j.v_index);

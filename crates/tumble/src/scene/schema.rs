@@ -311,6 +311,10 @@ pub struct RobotDoc {
     pub pd: Option<Loc<JointTable<Loc<Table<PdDoc>>>>>,
     /// Replace a link inertia that is not physical by the nearest physical one (reported per link).
     pub balance_inertia: Option<Loc<bool>>,
+    /// Enforce the URDF `<limit lower upper>` of revolute and prismatic joints (default true).
+    pub joint_limits: Option<Loc<bool>>,
+    /// Clamp commanded joint forces (constant, PD, `set_torque`) to the URDF `effort` (default true).
+    pub effort_limits: Option<Loc<bool>>,
 }
 
 /// `{ joint_name = value, ... }`, in the file's order (duplicate names are refused).

@@ -37,8 +37,8 @@ pub(crate) use writer::body_row;
 pub use contacts::ContactWriter;
 pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
-pub use summary::RobotSummary;
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
+pub use summary::{JointStepsSummary, RobotSummary};
 pub use writer::{TrajectoryWriter, CSV_HEADER};
 
 use std::path::Path;

@@ -133,6 +133,23 @@ pub struct RobotSummary {
     pub links: usize,
     /// Final energy, kinetic plus gravitational potential (J).
     pub energy: f64,
+    /// Joints whose commanded force was clamped to the URDF `effort`, and in how many steps.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effort_clamped: Vec<JointStepsSummary>,
+    /// Joints whose position limit pushed, and in how many steps.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joint_limits_active: Vec<JointStepsSummary>,
+}
+
+/// A joint and a number of steps.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct JointStepsSummary {
+    pub joint: String,
+    pub steps: u64,
+}
+
+fn joint_steps(list: Vec<crate::world::JointSteps>) -> Vec<JointStepsSummary> {
+    list.into_iter().map(|c| JointStepsSummary { joint: c.joint, steps: c.steps }).collect()
 }
 
 /// Contacts over the run.
@@ -202,6 +219,8 @@ impl Summary {
                     nv: r.model.nv(),
                     links: r.link_names().len(),
                     energy: r.energy(),
+                    effort_clamped: joint_steps(r.effort_clamps()),
+                    joint_limits_active: joint_steps(r.limit_activity()),
                 })
                 .collect(),
             contact: ContactSummary {

@@ -8,7 +8,7 @@ use crate::math::DVec3;
 
 mod robots;
 mod state;
-pub use robots::{robot_method, LinkState, Robot};
+pub use robots::{robot_method, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
 /// Largest position (m), velocity (m/s) or angular velocity (rad/s) magnitude taken as a sane state;

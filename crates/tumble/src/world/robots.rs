@@ -15,6 +15,11 @@
 //! | `rk4`                           | classical RK4                                             |
 //! | `dopri5`, `splitting`, `splitting4` | RK4 at the world's `dt` (no adaptive or split form for trees) |
 //!
+//! **Limits.** A robot made by a scene holds its URDF joint position limits (`joint_limits`, see
+//! [`crate::multibody::limits`]) and clamps its commanded joint forces to the URDF efforts
+//! (`effort_limits`, [`Control::set_effort_limits`]); it counts, per joint, the steps in which each
+//! happened ([`Robot::limit_activity`], [`Robot::effort_clamps`]) for the run report.
+//!
 //! **Divergence.** After each step every `q` and `v` entry of every robot must be finite and at most
 //! [`MAX_STATE_MAGNITUDE`](super::MAX_STATE_MAGNITUDE) in magnitude; otherwise the step is undone (for
 //! the bodies and for every robot) and the error names the robot, the joint, the step and the time.
@@ -56,6 +61,18 @@ pub struct Robot {
     potential: f64,
     /// Total momentum `[L about the world origin; p]` of the current state, world frame.
     momentum: Force,
+    /// Per velocity coordinate: the steps in which its commanded force was clamped to its effort
+    /// limit.
+    clamp_steps: Vec<u64>,
+}
+
+/// A joint and a number of steps (effort clamps, limit activity), for the run report.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JointSteps {
+    /// The joint's name.
+    pub joint: String,
+    /// Steps in which it happened.
+    pub steps: u64,
 }
 
 /// The state of one link as written in a trajectory, all world frame.
@@ -102,10 +119,45 @@ impl Robot {
             kinetic: 0.0,
             potential: 0.0,
             momentum: Force::ZERO,
+            clamp_steps: vec![0; model.nv()],
             model,
         };
         robot.refresh();
         Ok(robot)
+    }
+
+    /// Enforces (or not) the URDF position limits of the revolute and prismatic joints (off for a
+    /// robot made by [`Robot::new`]; scenes turn them on unless `joint_limits = false`).
+    pub fn set_joint_limits(&mut self, on: bool) {
+        self.sim.set_joint_limits(&self.model, on);
+    }
+
+    /// Whether joint position limits are enforced (and the robot has some).
+    pub fn joint_limits_enforced(&self) -> bool {
+        self.sim.joint_limits().is_some()
+    }
+
+    /// The joints whose commanded force was clamped to their effort limit, with the number of
+    /// steps it happened in (joints never clamped are left out).
+    pub fn effort_clamps(&self) -> Vec<JointSteps> {
+        self.per_joint(|vi| self.clamp_steps[vi])
+    }
+
+    /// The joints whose position limit pushed, with the number of steps it did.
+    pub fn limit_activity(&self) -> Vec<JointSteps> {
+        let Some(solver) = self.sim.joint_limits() else { return Vec::new() };
+        let counts: Vec<(usize, u64)> = solver.limited_dofs().zip(solver.active_steps().iter().copied()).collect();
+        self.per_joint(|vi| counts.iter().find(|(k, _)| *k == vi).map_or(0, |(_, n)| *n))
+    }
+
+    fn per_joint(&self, steps_of: impl Fn(usize) -> u64) -> Vec<JointSteps> {
+        self.model
+            .bodies
+            .iter()
+            .filter(|b| b.joint.kind.nv() == 1)
+            .map(|b| JointSteps { joint: b.joint.name.clone(), steps: steps_of(b.joint.v_index) })
+            .filter(|c| c.steps > 0)
+            .collect()
     }
 
     /// Configuration (nq): see `docs/multibody.md` for each joint's coordinates.
@@ -218,6 +270,9 @@ impl Robot {
         if let Some(problem) = self.check() {
             self.undo();
             return Err(problem);
+        }
+        for (count, &clamped) in self.clamp_steps.iter_mut().zip(self.sim.clamped()) {
+            *count += u64::from(clamped);
         }
         self.refresh();
         Ok(())

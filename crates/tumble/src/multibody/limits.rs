@@ -1,0 +1,445 @@
+//! Joint position limits: one-sided, speculative, inelastic constraints on joint coordinates.
+//!
+//! References: R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), §6.5 (the sparse `LᵀDL`
+//! factor used for `M⁻¹`) and ch. 11 (contact as a complementarity problem); B. Mirtich, PhD thesis
+//! (1996), ch. 4 (impulses on articulated bodies); E. Catto, "Speculative contacts" (GDC 2012) for
+//! the speculative distance `d / h`.
+//!
+//! A limited coordinate `q_i ∈ [lo, hi]` (a revolute or prismatic joint with a URDF `<limit>`) gives
+//! up to two rows, each a unit row in joint space with a sign `s`:
+//!
+//! ```text
+//! lower: J = +e_iᵀ, gap g = q_i − lo ≥ 0        upper: J = −e_iᵀ, gap g = hi − q_i ≥ 0
+//! row velocity u = J v = s v_i,  generalized impulse Jᵀ λ with λ ≥ 0 (it only pushes away)
+//! Δv = M⁻¹ Jᵀ λ,   K_rs = J_r M⁻¹ J_sᵀ = s_r s_s (M⁻¹)_{i_r i_s}
+//! ```
+//!
+//! Rows are solved together (several joints at their limits couple through `M⁻¹`) as the linear
+//! complementarity problem `w = K λ − b ≥ 0, λ ≥ 0, λᵀ w = 0`, exactly, by Murty's principal
+//! pivoting (K is symmetric positive definite, a P-matrix, so the least-index rule ends; projected
+//! Gauss–Seidel is the fallback for a singular `K`); `b` is the change of row velocity each row
+//! needs. A row that the others' impulses push past its own limit joins the solve, which is then
+//! repeated. A step of `h` has two phases:
+//!
+//! 1. **Impact (before the integrator, at `(q₀, v₀)`)**: speculative, restitution 0. A row is
+//!    active when the step would carry the joint past its limit, `g₀ + h u₀ < 0`; it then asks for
+//!    `u₀⁺ ≥ min(0, −g₀/h)`, i.e. `b = min(0, −g₀/h) − u₀`: the joint may arrive exactly at the
+//!    limit at the end of the step and no faster. Since the target is `≤ 0` and `λ ≥ 0`,
+//!    `ΔT = Σ λ_r (u_r⁻ + u_r⁺)/2 ≤ 0`: an impact never adds energy (perfectly inelastic).
+//! 2. **Force (after the integrator, at `(q₁, v₁)`)**: during the step the free acceleration can
+//!    still carry the joint past the limit by `O(a h²)`. The limit then acts as a constant
+//!    generalized force `F = Jᵀ λ/h` over the step, which moves the end state by
+//!    `Δv = M⁻¹ Jᵀ λ` and `Δq = c h Δv`, with `c` the position weight of a constant force in the
+//!    integrator: `c = ½` for RK4 (`q₁ = q₀ + h v₀ + ½ h² a` exactly for constant `a`), `c = 1` for
+//!    semi-implicit Euler (`q₁ = q₀ + h v₁`). The rows ask for a zero gap at the end of the step,
+//!    `g₁ + c h Δu ≥ 0`, i.e. `b = −g₁ / (c h)`. A joint held at its limit by a constant torque
+//!    thus ends each step at the limit with zero velocity: the force cancels exactly the free
+//!    acceleration's `Δv = a h` and its `Δq = c a h²`; what is left of the row velocity into the
+//!    limit (the acceleration is not exactly constant over an RK4 step: `O(h³)`) is then removed by
+//!    the velocity condition of phase 1 at the end state. Explicit Euler moves `q` with the old `v`
+//!    (`c = 0`): a force cannot move `q₁`, and phase 1 already made `q₁ = q₀ + h v₀⁺` respect the
+//!    limit, so its phase 2 is the velocity condition of phase 1 at the end state,
+//!    `b = min(0, −g₁/h) − u₁`.
+//!
+//! A joint that starts outside its limit (`g₀ < 0`) is measured from where it is: the rows use the
+//! gap `g − min(0, g₀)` in phase 2 and the target `0` in phase 1, so the limit stops further motion
+//! outward and lets the joint come back, without pushing it in (no energy is injected).
+//!
+//! `M⁻¹` columns come from CRBA and the sparse `LᵀDL` factor (`O(n d)` each), computed only when a
+//! row is active. Every buffer is allocated when the solver is made: a step allocates nothing.
+
+use super::crba::crba;
+use super::joint::JointKind;
+use super::ltdl::{ltdl_factor, ltdl_solve};
+use super::model::MultibodyModel;
+use super::workspace::{ensure_square, Workspace};
+use nalgebra::DMatrix;
+
+/// Sweeps of projected Gauss–Seidel at most (the fallback for a singular `K`).
+const MAX_SWEEPS: usize = 200;
+/// Principal pivots of Murty's method at most (it ends in far fewer for the few rows of a tree).
+const MAX_PIVOTS: usize = 200;
+/// Times the active set may grow by rows that the others' impulses push past their limits.
+const MAX_GROWTH: usize = 4;
+/// Relative change of `λ` under which Gauss–Seidel stops.
+const SWEEP_TOLERANCE: f64 = 1e-14;
+/// A row whose gap is below this (rad or m) joins the solve even if it does not need an impulse, so
+/// that the coupling of the other rows cannot push it through its limit.
+const NEAR_GAP: f64 = 1e-6;
+
+/// Which phase of the step a solve is for (see the module's doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Phase {
+    /// Phase 1, at the start of the step: velocity condition `u⁺ ≥ min(0, −g/h)`.
+    Impact,
+    /// Phase 2, at the end of the step: zero end gap through `Δq = c h Δv` (`c > 0`).
+    Force { c: f64 },
+    /// Phase 2′, at the end of the step: the velocity condition of phase 1 at the end state (all of
+    /// phase 2 for explicit Euler, whose `q₁` a force cannot move).
+    EndVelocity,
+}
+
+/// A limited coordinate: `q[q_index] ∈ [lower, upper]`, its velocity `v[v_index]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Limited {
+    q_index: usize,
+    v_index: usize,
+    lower: f64,
+    upper: f64,
+}
+
+/// One active row of a solve.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Row {
+    /// Index into `limited`.
+    coord: usize,
+    /// `+1` for a lower limit, `−1` for an upper one (`J = s e_i`).
+    sign: f64,
+    /// The change of row velocity it asks for (m/s or rad/s).
+    b: f64,
+}
+
+/// The joint-limit rows of a tree and the buffers to solve them (one per simulator).
+#[derive(Debug, Clone)]
+pub struct JointLimitSolver {
+    limited: Vec<Limited>,
+    /// Gap of each limited coordinate's lower and upper row at the start of the step (`min(0, g₀)`
+    /// is the reference of a joint that started outside).
+    start_gap: Vec<[f64; 2]>,
+    rows: Vec<Row>,
+    /// `M⁻¹ e_{i_r}` for each active row `r`, column `r` (nv × 2 n_limited).
+    minv_cols: DMatrix<f64>,
+    /// `K` (rows × rows, stored 2 n_limited square).
+    k: DMatrix<f64>,
+    lambda: Vec<f64>,
+    /// Murty's method: which rows are in the basis, their indices, the reduced system and its
+    /// right-hand side.
+    basis: Vec<bool>,
+    basis_rows: Vec<usize>,
+    reduced: DMatrix<f64>,
+    rhs: Vec<f64>,
+    /// Rows (coordinate, side) that joined the solve because the others pushed them past their limit.
+    forced: Vec<[bool; 2]>,
+    /// `Δv = M⁻¹ Jᵀ λ` (nv).
+    dv: Vec<f64>,
+    /// Scratch configuration (nq).
+    q_tmp: Vec<f64>,
+    /// Steps in which each limited coordinate had a row with `λ > 0`.
+    active_steps: Vec<u64>,
+    active_now: Vec<bool>,
+}
+
+impl JointLimitSolver {
+    /// The solver for every revolute and prismatic joint of `model` that has position limits, with
+    /// its buffers; `None` when no joint has limits. Also sizes `ws`'s mass matrix and factor.
+    pub fn new(model: &MultibodyModel, ws: &mut Workspace) -> Option<Self> {
+        let limited: Vec<Limited> = model
+            .bodies
+            .iter()
+            .filter_map(|b| {
+                let j = &b.joint;
+                let (lower, upper) = j.limits.position?;
+                matches!(j.kind, JointKind::Revolute { .. } | JointKind::Prismatic { .. }).then_some(Limited {
+                    q_index: j.q_index,
+                    v_index: j.v_index,
+                    lower,
+                    upper,
+                })
+            })
+            .collect();
+        if limited.is_empty() || ensure_square(&mut ws.mass_matrix, model.nv()).is_err() {
+            return None;
+        }
+        if ws.ltdl.shape() != ws.mass_matrix.shape() {
+            ws.ltdl = ws.mass_matrix.clone();
+        }
+        let n = limited.len();
+        Some(Self {
+            start_gap: vec![[0.0; 2]; n],
+            rows: Vec::with_capacity(2 * n),
+            minv_cols: DMatrix::zeros(model.nv(), 2 * n),
+            k: DMatrix::zeros(2 * n, 2 * n),
+            lambda: vec![0.0; 2 * n],
+            basis: vec![false; 2 * n],
+            basis_rows: Vec::with_capacity(2 * n),
+            reduced: DMatrix::zeros(2 * n, 2 * n),
+            rhs: vec![0.0; 2 * n],
+            forced: vec![[false; 2]; n],
+            dv: vec![0.0; model.nv()],
+            q_tmp: vec![0.0; model.nq()],
+            active_steps: vec![0; n],
+            active_now: vec![false; n],
+            limited,
+        })
+    }
+
+    /// The velocity coordinates that have limits, in the order of [`active_steps`](Self::active_steps).
+    pub fn limited_dofs(&self) -> impl Iterator<Item = usize> + '_ {
+        self.limited.iter().map(|l| l.v_index)
+    }
+
+    /// For each limited coordinate, the number of steps in which its limit pushed.
+    pub fn active_steps(&self) -> &[u64] {
+        &self.active_steps
+    }
+
+    /// Records the gaps at the start of a step and clears the step's activity.
+    pub fn begin_step(&mut self, q: &[f64]) {
+        for (l, gap) in self.limited.iter().zip(&mut self.start_gap) {
+            *gap = [q[l.q_index] - l.lower, l.upper - q[l.q_index]];
+        }
+        self.active_now.fill(false);
+    }
+
+    /// Counts the coordinates whose limit pushed during the step.
+    pub fn end_step(&mut self) {
+        for (count, &on) in self.active_steps.iter_mut().zip(&self.active_now) {
+            *count += u64::from(on);
+        }
+    }
+
+    /// Applies the limits to `(q, v)` for one phase of a step of `h` seconds: finds the active rows,
+    /// solves `K λ ≥ b ⊥ λ ≥ 0`, then `v += M⁻¹ Jᵀ λ` (and, in the force phase, `q ← q ⊕ c h Δv`).
+    /// Does nothing (and computes no `M`) when no row needs an impulse.
+    pub fn apply(
+        &mut self,
+        model: &MultibodyModel,
+        ws: &mut Workspace,
+        phase: Phase,
+        h: f64,
+        q: &mut [f64],
+        v: &mut [f64],
+    ) {
+        self.forced.fill([false; 2]);
+        if !self.find_rows(phase, h, q, v) {
+            return;
+        }
+        // M(q) = Lᵀ D L (Featherstone §6.5); a tree with a singular M cannot be stepped by ABA either
+        if crba(model, ws, q).is_err() || ltdl_factor(model, ws).is_err() {
+            return;
+        }
+        for _ in 0..MAX_GROWTH {
+            if !self.solve(model, ws) {
+                return;
+            }
+            // a row left out that the others' impulses push past its limit joins, and all is redone
+            if !self.push_forced(phase, h, q, v) {
+                break;
+            }
+            self.find_rows(phase, h, q, v);
+        }
+        for (r, row) in self.rows.iter().enumerate() {
+            if self.lambda[r] > 0.0 {
+                self.active_now[row.coord] = true;
+            }
+        }
+        for (v, dv) in v.iter_mut().zip(&self.dv) {
+            *v += dv;
+        }
+        if let Phase::Force { c } = phase {
+            // q ← q ⊕ c h Δv (the position moved by a constant force over the step)
+            self.q_tmp.copy_from_slice(q);
+            let _ = model.integrate(&self.q_tmp, &self.dv, c * h, q);
+        }
+    }
+
+    /// The change of row velocity asked by row `(coord, sign)` at `(q_i, v_i)`, and its gap.
+    fn demand(&self, phase: Phase, h: f64, coord: usize, side: usize, q_i: f64, v_i: f64) -> (f64, f64) {
+        let l = &self.limited[coord];
+        let (sign, gap) = if side == 0 { (1.0, q_i - l.lower) } else { (-1.0, l.upper - q_i) };
+        let u = sign * v_i;
+        let g0 = self.start_gap[coord][side];
+        let b = match phase {
+            // u⁺ ≥ min(0, −g/h); a joint outside its limit only loses its outward speed
+            Phase::Impact | Phase::EndVelocity => (-gap / h).min(0.0) - u,
+            // g₁ + c h Δu ≥ 0, the gap measured from the start when it started outside
+            Phase::Force { c } => -(gap - g0.min(0.0)) / (c * h),
+        };
+        (b, gap)
+    }
+
+    /// Fills `rows` with the rows that need an impulse (`b > 0`), are near their limit, or were
+    /// forced in; returns whether one needs an impulse.
+    fn find_rows(&mut self, phase: Phase, h: f64, q: &[f64], v: &[f64]) -> bool {
+        self.rows.clear();
+        let mut needed = false;
+        for coord in 0..self.limited.len() {
+            let l = self.limited[coord];
+            for side in 0..2 {
+                let (b, gap) = self.demand(phase, h, coord, side, q[l.q_index], v[l.v_index]);
+                if b > 0.0 {
+                    needed = true;
+                } else if gap >= NEAR_GAP && !self.forced[coord][side] {
+                    continue;
+                }
+                let sign = if side == 0 { 1.0 } else { -1.0 };
+                self.rows.push(Row { coord, sign, b });
+            }
+        }
+        needed
+    }
+
+    /// Marks the rows left out of the solve that `Δv` pushes past their limits; whether there are any.
+    fn push_forced(&mut self, phase: Phase, h: f64, q: &[f64], v: &[f64]) -> bool {
+        let mut any = false;
+        for coord in 0..self.limited.len() {
+            let l = self.limited[coord];
+            for side in 0..2 {
+                if self.forced[coord][side]
+                    || self.rows.iter().any(|r| r.coord == coord && (r.sign > 0.0) == (side == 0))
+                {
+                    continue;
+                }
+                let (b, _) = self.demand(phase, h, coord, side, q[l.q_index], v[l.v_index]);
+                let du = if side == 0 { self.dv[l.v_index] } else { -self.dv[l.v_index] };
+                // still needs b − Δu > 0 after the others' impulses
+                if b - du > 1e-12 * (1.0 + b.abs()) {
+                    self.forced[coord][side] = true;
+                    any = true;
+                }
+            }
+        }
+        any
+    }
+
+    /// Builds `K` from `M⁻¹` columns, solves the LCP, and writes `Δv = M⁻¹ Jᵀ λ`.
+    fn solve(&mut self, model: &MultibodyModel, ws: &Workspace) -> bool {
+        let n = self.rows.len();
+        for (r, row) in self.rows.iter().enumerate() {
+            // column r: M⁻¹ e_i
+            let i = self.limited[row.coord].v_index;
+            let mut col = self.minv_cols.column_mut(r);
+            col.fill(0.0);
+            col[i] = 1.0;
+            if ltdl_solve(model, ws, col.as_mut_slice()).is_err() {
+                return false;
+            }
+        }
+        for r in 0..n {
+            for s in 0..n {
+                // K_rs = s_r s_s (M⁻¹)_{i_r i_s}
+                let (a, b) = (self.rows[r], self.rows[s]);
+                self.k[(r, s)] = a.sign * b.sign * self.minv_cols[(self.limited[a.coord].v_index, s)];
+            }
+        }
+        if !self.solve_murty(n) {
+            self.solve_pgs(n);
+        }
+        // Δv = Σ_r M⁻¹ e_{i_r} s_r λ_r
+        self.dv.fill(0.0);
+        for (r, row) in self.rows.iter().enumerate() {
+            let l = self.lambda[r] * row.sign;
+            for (dv, m) in self.dv.iter_mut().zip(self.minv_cols.column(r).iter()) {
+                *dv += m * l;
+            }
+        }
+        true
+    }
+
+    /// Murty's principal pivoting with the least-index rule on `w = K λ − b ≥ 0, λ ≥ 0, λᵀ w = 0`
+    /// (first `n` rows): solve `K_BB λ_B = b_B` on the basis `B`, then move the first row with
+    /// `λ_r < 0` (in `B`) or `w_r < 0` (out of `B`) across; ends for a P-matrix `K`.
+    ///
+    /// Reference: K. G. Murty, *Linear Complementarity, Linear and Nonlinear Programming* (1988),
+    /// §4.1 (the least-index principal pivoting method). Returns false when a reduced system is
+    /// singular or the pivots run out.
+    fn solve_murty(&mut self, n: usize) -> bool {
+        let scale = self.rows[..n].iter().map(|r| r.b.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        let tolerance = 1e-12 * scale;
+        self.basis[..n].iter_mut().enumerate().for_each(|(r, b)| *b = self.rows[r].b > 0.0);
+        for _ in 0..MAX_PIVOTS {
+            if !self.solve_basis(n) {
+                return false;
+            }
+            let mut pivot = None;
+            for r in 0..n {
+                let w: f64 = (0..n).map(|s| self.k[(r, s)] * self.lambda[s]).sum::<f64>() - self.rows[r].b;
+                let lambda_r = self.lambda[r];
+                // λ is in impulse units, b / K_rr
+                let lambda_tolerance = tolerance / self.k[(r, r)];
+                if (self.basis[r] && lambda_r < -lambda_tolerance) || (!self.basis[r] && w < -tolerance) {
+                    pivot = Some(r);
+                    break;
+                }
+            }
+            match pivot {
+                None => {
+                    self.lambda[..n].iter_mut().for_each(|l| *l = l.max(0.0));
+                    return true;
+                }
+                Some(r) => self.basis[r] = !self.basis[r],
+            }
+        }
+        false
+    }
+
+    /// `λ_B = K_BB⁻¹ b_B`, `λ = 0` off the basis, by Gaussian elimination with partial pivoting.
+    fn solve_basis(&mut self, n: usize) -> bool {
+        self.basis_rows.clear();
+        self.basis_rows.extend((0..n).filter(|&r| self.basis[r]));
+        let m = self.basis_rows.len();
+        for (a, &r) in self.basis_rows.iter().enumerate() {
+            for (b, &s) in self.basis_rows.iter().enumerate() {
+                self.reduced[(a, b)] = self.k[(r, s)];
+            }
+            self.rhs[a] = self.rows[r].b;
+        }
+        let (k, x) = (&mut self.reduced, &mut self.rhs);
+        let k_max = (0..m).map(|a| k[(a, a)].abs()).fold(0.0, f64::max);
+        for col in 0..m {
+            let p = (col..m).max_by(|&a, &b| k[(a, col)].abs().total_cmp(&k[(b, col)].abs())).unwrap_or(col);
+            // a pivot at round-off of K's scale: K_BB is singular (a joint with lower = upper)
+            let pivot = k[(p, col)].abs();
+            if pivot.is_nan() || pivot <= 1e-13 * k_max {
+                return false;
+            }
+            if p != col {
+                k.swap_rows(p, col);
+                x.swap(p, col);
+            }
+            for r in col + 1..m {
+                let f = k[(r, col)] / k[(col, col)];
+                for c in col..m {
+                    k[(r, c)] -= f * k[(col, c)];
+                }
+                x[r] -= f * x[col];
+            }
+        }
+        for col in (0..m).rev() {
+            let tail: f64 = (col + 1..m).map(|c| k[(col, c)] * x[c]).sum();
+            x[col] = (x[col] - tail) / k[(col, col)];
+        }
+        self.lambda[..n].fill(0.0);
+        for (a, &r) in self.basis_rows.iter().enumerate() {
+            self.lambda[r] = self.rhs[a];
+        }
+        true
+    }
+
+    /// Projected Gauss–Seidel on `w = K λ − b ≥ 0, λ ≥ 0, λᵀ w = 0` for the first `n` rows.
+    ///
+    /// Reference: K. Erleben, "Velocity-based shock propagation for multibody dynamics animation",
+    /// ACM TOG 26(2), 2007, §3 (PGS); converges for symmetric positive definite `K`.
+    fn solve_pgs(&mut self, n: usize) {
+        self.lambda[..n].fill(0.0);
+        for _ in 0..MAX_SWEEPS {
+            let mut change = 0.0_f64;
+            let mut size = 0.0_f64;
+            for r in 0..n {
+                // λ_r ← max(0, λ_r − (Σ_s K_rs λ_s − b_r) / K_rr)
+                let w: f64 = (0..n).map(|s| self.k[(r, s)] * self.lambda[s]).sum::<f64>() - self.rows[r].b;
+                let k_rr = self.k[(r, r)];
+                if k_rr.is_nan() || k_rr <= 0.0 {
+                    continue;
+                }
+                let next = (self.lambda[r] - w / k_rr).max(0.0);
+                change = change.max((next - self.lambda[r]).abs());
+                size = size.max(next.abs());
+                self.lambda[r] = next;
+            }
+            if change <= SWEEP_TOLERANCE * size {
+                break;
+            }
+        }
+    }
+}
