@@ -45,6 +45,11 @@ pub const REUSE_FRACTION: f64 = 1e-4;
 /// whose prediction varies with the bodies' speeds, can reuse it.
 pub const REUSE_MARGIN: f64 = 1e-3;
 
+/// Room for points made in every manifold when it is first used: parry's face–face clipping gives
+/// a polygon's vertices inside the other's and their edges' crossings, at most 4 + 4 + 8 for two
+/// quadrilaterals, so a manifold never grows (never allocates) after its first step.
+const POINTS_RESERVED: usize = 16;
+
 /// One pair's manifold and the relative pose and prediction it was made with.
 #[derive(Clone)]
 pub(super) struct PairManifold {
@@ -110,6 +115,7 @@ impl PairManifolds {
             None => {
                 let mut manifold = self.pool.pop().unwrap_or_default();
                 manifold.points.clear();
+                manifold.points.reserve(POINTS_RESERVED);
                 PairManifold { pair, manifold, pos12: Pose::IDENTITY, prediction: -1.0 }
             }
         };
