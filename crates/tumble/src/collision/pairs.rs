@@ -15,10 +15,10 @@
 //! length of the vector part of that rotation's unit quaternion. So every surface point of shape 2
 //! is within the bound of where it was, and the reused contact points are within it of the points a
 //! fresh manifold would have on the same features: a tangential shift of at most the bound, with
-//! the gap exact for those material points (a relative error in the contact point of 1e-4 of the
-//! shape, far below what moves a resting contact's impulses; the pyramid settles the same within
-//! 1e-5 m, see docs/contact.md). The features (corners, faces) and their ids stay those of the
-//! manifold, so warm starting matches them as before.
+//! the gap exact for those material points: an error in the contact point of at most 1e-4 of the
+//! shape. The contact tests keep their figures within their bounds, moved by about as much as any
+//! small perturbation moves them (docs/contact.md). The features (corners, faces) and their ids
+//! stay those of the manifold, so warm starting matches them as before.
 //!
 //! A manifold is made with the prediction distance of the step plus [`REUSE_MARGIN`] (the contacts
 //! beyond the step's prediction are dropped when the contacts are written, so this changes no
