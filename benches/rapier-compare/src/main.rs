@@ -1,8 +1,16 @@
 //! Runs the contact scenes in tumble and in Rapier, single-threaded, side by side: wall time per step,
 //! the ratio, and the stability of the pyramid (the largest displacement of a body after the run).
 //!
-//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [SCENE.toml ...]`
-//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`). A scene with
+//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [SCENE.toml ...]`
+//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5 repetitions).
+//!
+//! The machine's speed drifts (other builds share its cores), so each repetition runs the three
+//! engines one after the other — Rapier, tumble, and tumble with its manifolds made afresh at every
+//! step (`Colliders::set_reuse_fraction(0)`, the narrow phase before they were kept) — and the
+//! tables give the median over the repetitions of each time and of each repetition's ratio.
+//! tumble runs with its per-stage timing on (`World::set_profiling`, two clock reads per stage and
+//! step) and Rapier with its `profiler` counters, which give the second table: the time per step
+//! of each stage. A scene with
 //! `contacts = false` (`scenes/many.toml`: 10,000 free tumbling bodies) is built in Rapier as bodies
 //! without colliders carrying the same mass and principal inertia: a comparison of the free-body
 //! integration alone.
@@ -85,10 +93,20 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
 struct Run {
     ms_per_step: f64,
     largest_displacement: f64,
+    /// Per-stage ms per step: broad, narrow, impacts, resting, integration (tumble) or broad phase,
+    /// the rest of collision detection (narrow phase), solver, other stages (Rapier).
+    stages: [f64; 5],
+    /// tumble: convex pairs and reused manifolds per step.
+    pairs: (f64, f64),
 }
 
-fn run_tumble(mut world: tumble::World, steps: usize) -> Run {
+fn run_tumble(mut world: tumble::World, steps: usize, reuse: bool) -> Run {
     let start: Vec<DVec3> = world.bodies.iter().map(|b| b.state.position).collect();
+    if !reuse {
+        let bodies = world.bodies.clone();
+        world.contact_stage().colliders_mut(&bodies).set_reuse_fraction(0.0);
+    }
+    world.set_profiling(true);
     let t = Instant::now();
     for _ in 0..steps {
         if let Err(e) = world.step() {
@@ -104,14 +122,26 @@ fn run_tumble(mut world: tumble::World, steps: usize) -> Run {
         .filter(|(b, _)| !b.fixed)
         .map(|(b, s)| (b.state.position - *s).length())
         .fold(0.0, f64::max);
-    Run { ms_per_step, largest_displacement }
+    let p = world.profile().expect("profiling is on").per_step();
+    let stages = [p.broad_phase, p.narrow_phase, p.impacts, p.resting, p.integration].map(|s| s * 1e3);
+    Run { ms_per_step, largest_displacement, stages, pairs: (p.pairs, p.reused) }
 }
 
 fn run_rapier(world: &tumble::World, steps: usize) -> Run {
     let (mut rw, handles) = rapier_world(world);
+    let mut stages = [0.0; 5];
     let t = Instant::now();
     for _ in 0..steps {
         rw.step();
+        // the counters are reset at the start of every step
+        let c = &rw.physics_pipeline.counters;
+        let broad = c.cd.broad_phase_time.time_ms();
+        let detection = c.stages.collision_detection_time.time_ms();
+        let solver = c.stages.solver_time.time_ms();
+        stages[0] += broad;
+        stages[1] += detection - broad;
+        stages[2] += solver;
+        stages[3] += c.step_time.time_ms() - detection - solver;
     }
     let ms_per_step = t.elapsed().as_secs_f64() * 1e3 / steps as f64;
     let largest_displacement = world
@@ -121,7 +151,22 @@ fn run_rapier(world: &tumble::World, steps: usize) -> Run {
         .filter(|(b, _)| !b.fixed)
         .filter_map(|(b, h)| h.map(|h| (rw.bodies[h].translation() - b.state.position).length()))
         .fold(0.0, f64::max);
-    Run { ms_per_step, largest_displacement }
+    Run { ms_per_step, largest_displacement, stages: stages.map(|s| s / steps as f64), pairs: (0.0, 0.0) }
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    if n % 2 == 1 {
+        xs[n / 2]
+    } else {
+        0.5 * (xs[n / 2 - 1] + xs[n / 2])
+    }
+}
+
+/// The median over the runs of `f`.
+fn med(runs: &[Run], f: impl Fn(&Run) -> f64) -> f64 {
+    median(runs.iter().map(f).collect())
 }
 
 fn main() {
@@ -133,15 +178,22 @@ fn main() {
         }
         None => 1000,
     };
+    let mut reps = 5;
+    if let Some(at) = args.iter().position(|a| a == "--reps") {
+        reps = args.get(at + 1).and_then(|n| n.parse().ok()).filter(|&n| n > 0).unwrap_or_else(|| {
+            eprintln!("--reps takes a positive number");
+            std::process::exit(2);
+        });
+        args.drain(at..at + 2);
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let scenes: Vec<String> = if args.is_empty() {
         ["scenes/pyramid.toml", "scenes/balls.toml"].iter().map(|s| root.join(s).display().to_string()).collect()
     } else {
         args
     };
-    println!("{steps} steps each, single-threaded");
-    println!("| scene | bodies | tumble ms/step | Rapier ms/step | tumble/Rapier | largest displacement tumble (m) | Rapier (m) |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("{steps} steps each, single-threaded, median of {reps} interleaved repetitions");
+    let mut results = Vec::new();
     for path in scenes {
         let scene = match tumble::scene::load(Path::new(&path)) {
             Ok(s) => s,
@@ -151,17 +203,64 @@ fn main() {
             }
         };
         let world = scene.world;
-        let rapier = run_rapier(&world, steps);
-        let n = world.bodies.len();
-        let tumble = run_tumble(world, steps);
+        let (mut rapier, mut tumble, mut before) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..reps {
+            rapier.push(run_rapier(&world, steps));
+            tumble.push(run_tumble(world.clone(), steps, true));
+            before.push(run_tumble(world.clone(), steps, false));
+        }
         let name = Path::new(&path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or(path.clone());
+        results.push((name, world.bodies.len(), rapier, tumble, before));
+    }
+    println!();
+    println!("| scene | bodies | tumble ms/step | tumble, manifolds made every step | Rapier ms/step | tumble/Rapier | before/Rapier | largest displacement tumble (m) | before (m) | Rapier (m) |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for (name, n, rapier, tumble, before) in &results {
+        let ratio =
+            |runs: &[Run]| median(runs.iter().zip(rapier).map(|(t, r)| t.ms_per_step / r.ms_per_step).collect());
         println!(
-            "| {name} | {n} | {:.3} | {:.3} | {:.2} | {:.4} | {:.4} |",
-            tumble.ms_per_step,
-            rapier.ms_per_step,
-            tumble.ms_per_step / rapier.ms_per_step,
-            tumble.largest_displacement,
-            rapier.largest_displacement
+            "| {name} | {n} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.5} | {:.5} | {:.4} |",
+            med(tumble, |r| r.ms_per_step),
+            med(before, |r| r.ms_per_step),
+            med(rapier, |r| r.ms_per_step),
+            ratio(tumble),
+            ratio(before),
+            med(tumble, |r| r.largest_displacement),
+            med(before, |r| r.largest_displacement),
+            med(rapier, |r| r.largest_displacement),
+        );
+    }
+    for (name, _, rapier, tumble, before) in &results {
+        println!();
+        println!("{name}: ms per step by stage (median of {reps})");
+        println!();
+        println!("| stage | tumble, manifolds made every step | tumble | Rapier |");
+        println!("|---|---|---|---|");
+        let stage = |runs: &[Run], k: usize| med(runs, |r| r.stages[k]);
+        let rows = [
+            ("broad phase", 0, Some(0)),
+            ("narrow phase", 1, Some(1)),
+            ("collisions (impacts)", 2, None),
+            ("resting contact (constraints and solver)", 3, Some(2)),
+            ("integration", 4, None),
+        ];
+        for (label, k, rk) in rows {
+            let r = rk.map_or("—".to_string(), |rk| format!("{:.3}", stage(rapier, rk)));
+            println!("| {label} | {:.3} | {:.3} | {r} |", stage(before, k), stage(tumble, k));
+        }
+        println!("| Rapier's other stages (islands, integration, user changes) | | | {:.3} |", stage(rapier, 3));
+        println!(
+            "| whole step | {:.3} | {:.3} | {:.3} |",
+            med(before, |r| r.ms_per_step),
+            med(tumble, |r| r.ms_per_step),
+            med(rapier, |r| r.ms_per_step)
+        );
+        println!(
+            "| convex pairs per step, manifolds reused | {:.0}, {:.0} | {:.0}, {:.0} | |",
+            med(before, |r| r.pairs.0),
+            med(before, |r| r.pairs.1),
+            med(tumble, |r| r.pairs.0),
+            med(tumble, |r| r.pairs.1)
         );
     }
 }

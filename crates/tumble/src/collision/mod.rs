@@ -17,7 +17,9 @@
 //!    are paired with every free body. Cost `O(n log n + k)` for `k` overlapping boxes.
 //! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
 //!    equal to the two bodies' sweeps, giving up to four points with their signed distance. A pair
-//!    of convex shapes (the common case) takes one convex–convex manifold; a pair with a compound
+//!    of convex shapes (the common case) takes one convex–convex manifold, kept from step to step
+//!    and reused, with its gaps computed again, while the pair has barely moved (module `pairs`:
+//!    relative motion below 1e-4 of the shape); a pair with a compound
 //!    or a triangle mesh takes parry's composite manifolds (one per pair of touching sub-shapes,
 //!    module `composite`), with parry's workspace kept per pair from step to step.
 //!
@@ -31,6 +33,8 @@ mod overlap;
 pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
 mod composite;
 mod hull;
+mod pairs;
+pub use pairs::{REUSE_FRACTION, REUSE_MARGIN};
 
 pub use hull::{
     convex_decomposition, convex_hull, decomposition_parameters, mesh_hull_excess, VHACD_CONCAVITY, VHACD_MAX_PIECES,
@@ -41,7 +45,6 @@ use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
-use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 
 /// Manifold points closer than this (m) are one point.
@@ -94,7 +97,10 @@ pub struct Colliders {
     sweeps: Vec<f64>,
     order: Vec<usize>,
     pairs: Vec<(usize, usize)>,
-    manifold: ContactManifold<(), ()>,
+    /// The manifold of each pair of convex shapes, kept across steps (module `pairs`).
+    manifolds: pairs::PairManifolds,
+    /// A pair's manifold is reused while it moved less than this fraction of its smaller shape.
+    reuse_fraction: f64,
     /// Whether each body's parry shape is composite (a compound or a triangle mesh).
     composite: Vec<bool>,
     /// parry's manifolds and workspace of each pair with a composite shape, kept across steps.
@@ -169,7 +175,8 @@ impl Colliders {
             sweeps: Vec::new(),
             order: Vec::new(),
             pairs: Vec::new(),
-            manifold: ContactManifold::new(),
+            manifolds: pairs::PairManifolds::default(),
+            reuse_fraction: REUSE_FRACTION,
             composite: Vec::new(),
             composite_pairs: composite::CompositePairs::default(),
         };
@@ -185,6 +192,7 @@ impl Colliders {
         self.radii.clear();
         self.composite.clear();
         self.composite_pairs.clear();
+        self.manifolds.clear();
         for (i, body) in bodies.iter().enumerate() {
             let Some(shape) = &body.shape else {
                 self.shapes.push(None);
@@ -204,6 +212,13 @@ impl Colliders {
             self.shapes.push(Some(parry));
             self.shape_offsets.push(offset);
         }
+    }
+
+    /// Sets the fraction of the smaller shape's bounding radius below which a pair's relative motion
+    /// lets its manifold be reused ([`REUSE_FRACTION`] by default; 0: every manifold is made at every
+    /// step, as before the manifolds were kept).
+    pub fn set_reuse_fraction(&mut self, fraction: f64) {
+        self.reuse_fraction = fraction.max(0.0);
     }
 
     /// Whether the bodies' shapes match what was built (same count).
@@ -235,19 +250,46 @@ impl Colliders {
     /// scaled by each body's `gravity_scale`), plus `slop` (m) or [`PREDICTION_MARGIN`], whichever
     /// is larger.
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
+        self.find_contacts_profiled(bodies, dt, gravity, slop, out, None);
+    }
+
+    /// [`Self::find_contacts`], adding the time of the broad and narrow phases and the narrow
+    /// phase's counts to `profile` when given.
+    pub(crate) fn find_contacts_profiled(
+        &mut self,
+        bodies: &[RigidBody],
+        dt: f64,
+        gravity: DVec3,
+        slop: f64,
+        out: &mut Vec<Contact>,
+        profile: Option<&mut crate::world::Profile>,
+    ) {
+        let mut clock = crate::world::Clock::start(profile.is_some());
         out.clear();
         // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
         self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
+        let broad = clock.lap();
         let pairs = std::mem::take(&mut self.pairs);
+        let (mut convex, mut reused) = (0, 0);
+        self.manifolds.begin_step();
         for &(i, j) in &pairs {
             if self.composite[i] || self.composite[j] {
                 self.narrow_phase_composite(bodies, i, j, out);
             } else {
-                self.narrow_phase(bodies, i, j, out);
+                convex += 1;
+                reused += u64::from(self.narrow_phase(bodies, i, j, out));
             }
         }
+        self.manifolds.end_step();
         self.pairs = pairs;
         self.composite_pairs.end_step();
+        if let Some(p) = profile {
+            p.broad_phase += broad;
+            p.narrow_phase += clock.lap();
+            p.pairs += convex;
+            p.reused += reused;
+            p.contacts += out.len() as u64;
+        }
     }
 
     /// Sort and sweep along world x over the swept boxes; fills `self.pairs`.
@@ -311,27 +353,26 @@ impl Colliders {
     }
 
     /// parry's contact manifold between bodies `i` and `j` (both convex), appended to `out` in the
-    /// world frame.
-    fn narrow_phase(&mut self, bodies: &[RigidBody], i: usize, j: usize, out: &mut Vec<Contact>) {
-        let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return };
+    /// world frame: the pair's manifold of the last step when the pair has barely moved since it was
+    /// made (module `pairs`), else made again. Whether it was reused.
+    fn narrow_phase(&mut self, bodies: &[RigidBody], i: usize, j: usize, out: &mut Vec<Contact>) -> bool {
+        let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return false };
         let pose_i = self.pose(bodies, i);
         let pose_j = self.pose(bodies, j);
         let prediction = self.sweeps[i] + self.sweeps[j];
         let pos12 = pose_i.inv_mul(&pose_j);
-        self.manifold.points.clear();
-        let found = DefaultQueryDispatcher.contact_manifold_convex_convex(
-            &pos12,
-            shape_i.as_ref(),
-            shape_j.as_ref(),
-            None,
-            None,
-            prediction,
-            &mut self.manifold,
-        );
-        if found.is_err() {
-            return;
+        // a plane is unbounded: the other shape's size sets the bound
+        let size = |k: usize| if self.planes.contains(&k) { f64::INFINITY } else { self.radii[k] };
+        let reuse_distance = self.reuse_fraction * size(i).min(size(j));
+        let entry = self.manifolds.entry((i, j));
+        let reused = entry.reusable(&pos12, prediction, self.radii[j], reuse_distance);
+        if reused {
+            entry.reuse(&pos12);
+        } else if !entry.make(&pos12, shape_i.as_ref(), shape_j.as_ref(), prediction) {
+            return false;
         }
-        let normal_world = pose_i.rotation * self.manifold.local_n1;
+        let manifold = &entry.manifold;
+        let normal_world = pose_i.rotation * manifold.local_n1;
         let normal_world = if normal_world.is_finite() && normal_world.length_squared() > 0.5 {
             normal_world.normalize()
         } else {
@@ -339,7 +380,7 @@ impl Colliders {
             DVec3::Z
         };
         let first = out.len();
-        for c in &self.manifold.points {
+        for c in &manifold.points {
             if c.dist.is_nan() || c.dist > prediction {
                 continue;
             }
@@ -358,5 +399,6 @@ impl Colliders {
             let features = (u64::from(c.fid1.0), u64::from(c.fid2.0));
             out.push(Contact { a: i, b: j, point_world, normal_world, gap: c.dist, features });
         }
+        reused
     }
 }

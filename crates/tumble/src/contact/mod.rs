@@ -146,6 +146,8 @@ pub struct ContactStage {
     pub energy: ContactEnergy,
     /// Collisions resolved so far.
     pub impacts: u64,
+    /// Wall time per stage when profiling is on (see [`crate::World::set_profiling`]).
+    profile: Option<crate::world::Profile>,
 }
 
 impl ContactStage {
@@ -167,6 +169,16 @@ impl ContactStage {
         if let Some(c) = &mut self.colliders {
             c.exclude_pair(i, j);
         }
+    }
+
+    /// Switches the timing of the stages on (from zero) or off.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profile = on.then(Default::default);
+    }
+
+    /// The stages' times since profiling was switched on, `None` when off.
+    pub fn profile(&self) -> Option<&crate::world::Profile> {
+        self.profile.as_ref()
     }
 
     /// The contacts found at the last step.
@@ -219,7 +231,16 @@ impl ContactStage {
             return;
         }
         let mut contacts = std::mem::take(&mut self.contacts);
-        self.colliders_mut(bodies).find_contacts(bodies, dt, gravity, settings.slop, &mut contacts);
+        let mut profile = self.profile.take();
+        self.colliders_mut(bodies).find_contacts_profiled(
+            bodies,
+            dt,
+            gravity,
+            settings.slop,
+            &mut contacts,
+            profile.as_mut(),
+        );
+        self.profile = profile;
         self.contacts = contacts;
         self.impulses.clear();
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
@@ -227,9 +248,15 @@ impl ContactStage {
             self.previous.clear();
             return;
         }
+        let mut clock = crate::world::Clock::start(self.profile.is_some());
         self.load_bodies(bodies, gravity);
         self.impacts(bodies, settings, dt, lead);
+        let impacts = clock.lap();
         self.resting(bodies, settings, gravity, dt);
+        if let Some(p) = &mut self.profile {
+            p.impacts += impacts;
+            p.resting += clock.lap();
+        }
     }
 
     /// After the integration: puts the bodies held by resting contacts where the substeps moved

@@ -6,8 +6,13 @@ use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
+mod hash;
+mod profile;
 mod robots;
 mod state;
+pub use hash::StateHasher;
+pub(crate) use profile::Clock;
+pub use profile::{PerStep, Profile};
 pub use robots::{robot_method, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
@@ -139,6 +144,8 @@ pub struct World {
     contact: ContactStage,
     /// Per body, the step (0-based) in which it first had a contact, if any.
     first_contact: Vec<Option<u64>>,
+    /// Wall time per stage since profiling was switched on; `None`: off (see [`World::set_profiling`]).
+    profile: Option<Profile>,
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -160,7 +167,24 @@ impl World {
             robots: Vec::new(),
             contact: ContactStage::default(),
             first_contact: Vec::new(),
+            profile: None,
         }
+    }
+
+    /// Switches the per-stage timing of the step on (from zero) or off. Off, the default, it costs
+    /// nothing but a test per stage.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profile = on.then(Profile::default);
+        self.contact.set_profiling(on);
+    }
+
+    /// Wall time per stage and narrow-phase counts since profiling was switched on, or `None` when off.
+    pub fn profile(&self) -> Option<Profile> {
+        let mut p = self.profile?;
+        if let Some(contact) = self.contact.profile() {
+            p.add_contact_stage(contact);
+        }
+        Some(p)
     }
 
     /// Steps taken so far.
@@ -187,6 +211,7 @@ impl World {
     pub fn step(&mut self) -> Result<(), Diverged> {
         // with contacts, the states are saved before the impulses change them; without, in the
         // integration's own pass (no extra sweep over the bodies)
+        let mut clock = Clock::start(self.profile.is_some());
         let contacts = self.contacts_possible();
         self.save_states(contacts);
         if contacts {
@@ -194,6 +219,7 @@ impl World {
             self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt, lead);
             self.note_first_contacts();
         }
+        let contact_time = clock.lap();
         // a step that diverges is undone for the bodies whose states were saved
         if let Err((saved, diverged)) = self.integrate_free_bodies(!contacts) {
             self.undo(if contacts { self.bodies.len() } else { saved });
@@ -205,6 +231,12 @@ impl World {
         }
         if contacts {
             self.contact.finish(&mut self.bodies);
+        }
+        if let Some(p) = &mut self.profile {
+            let integration = clock.lap();
+            p.steps += 1;
+            p.integration += integration;
+            p.step += contact_time + integration;
         }
         self.steps += 1;
         Ok(())
