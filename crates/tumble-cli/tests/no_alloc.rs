@@ -114,7 +114,7 @@ fn the_run_loop_allocates_nothing_per_step_with_robots() {
 }
 
 /// The same for a contact scene with its contacts on: allocations over `steps` steps of
-/// `scenes/NAME.toml`, every step written.
+/// `scenes/NAME.toml`, every step written, the contacts file (`--contacts`) too.
 fn contact_allocations(name: &str, steps: u64) -> usize {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.toml"));
     let mut world = tumble::scene::load(&path).unwrap().world;
@@ -122,10 +122,11 @@ fn contact_allocations(name: &str, steps: u64) -> usize {
     world.config.duration = steps as f64 * world.config.dt;
     world.config.sample_every = 1;
     let mut writer = TrajectoryWriter::new(std::io::sink(), Format::Csv, &world).unwrap();
+    let mut contacts = ContactWriter::new(std::io::sink(), &world);
     let mut ticker = Ticker::new(steps, 6, false);
     let stop = AtomicBool::new(false);
     let before = allocations_so_far();
-    let outcome = simulate(&mut world, &mut writer, &stop, &mut ticker).unwrap();
+    let outcome = simulate(&mut world, &mut writer, Some(&mut contacts), &stop, &mut ticker).unwrap();
     let after = allocations_so_far();
     assert!(matches!(outcome.stop, Stop::Completed));
     after - before
