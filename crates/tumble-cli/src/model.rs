@@ -90,12 +90,10 @@ fn table(model: &MultibodyModel, layout: &Value) -> String {
     for r in &rows {
         text.push_str(&line(r));
     }
-    if !model.meshes.is_empty() {
-        let resolved = model.meshes.iter().filter(|m| m.path.is_some()).count();
-        text.push_str(&format!(
-            "meshes: {} named, {resolved} resolved (not needed for dynamics)\n",
-            model.meshes.len()
-        ));
+    let meshes = model.meshes();
+    if !meshes.is_empty() {
+        let resolved = meshes.iter().filter(|m| m.path.is_some()).count();
+        text.push_str(&format!("meshes: {} named, {resolved} resolved (not needed for dynamics)\n", meshes.len()));
     }
     for w in &model.warnings {
         text.push_str(&format!("warning: {w}\n"));

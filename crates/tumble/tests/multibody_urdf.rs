@@ -418,9 +418,10 @@ fn u15_u17_mesh_paths_are_resolved_without_leaving_their_roots() {
            <collision><geometry><mesh filename="package://nowhere/a.stl"/></geometry></collision></link>"#
         .into()]);
     let model = parse_urdf(&text, "/robots/r.urdf", UrdfOptions::default()).unwrap();
-    assert_eq!(model.meshes.len(), 2);
-    assert_eq!(model.meshes[0].path.as_deref(), Some(Path::new("/robots/meshes/a.stl")));
-    assert_eq!(model.meshes[1].path, None);
+    let meshes = model.meshes();
+    assert_eq!(meshes.len(), 2);
+    assert_eq!(meshes[0].path.as_deref(), Some(Path::new("/robots/meshes/a.stl")));
+    assert_eq!(meshes[1].path, None);
     assert!(
         model.warnings.iter().any(|w| w.contains("package://nowhere/a.stl") && w.contains("/robots/r.urdf:3")),
         "{:?}",

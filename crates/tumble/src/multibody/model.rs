@@ -108,7 +108,7 @@ pub struct MeshRef {
     /// The file it resolves to, or `None` (with a warning) when it cannot be resolved or leaves the
     /// directory it is resolved against.
     pub path: Option<std::path::PathBuf>,
-    /// 1-based line of the `<mesh>` element.
+    /// 1-based line of the `<visual>` or `<collision>` element that names it.
     pub line: u32,
 }
 
@@ -163,8 +163,6 @@ pub struct MultibodyModel {
     pub world_inertia: RigidInertia,
     /// Non-fatal remarks from the source (unknown tags, normalised axes, unresolved meshes).
     pub warnings: Vec<String>,
-    /// Meshes named by the source's geometry.
-    pub meshes: Vec<MeshRef>,
     /// Every `<collision>` and `<visual>` geometry of the links, in file order.
     pub geometries: Vec<LinkGeometry>,
     nq: usize,
@@ -258,6 +256,19 @@ impl MultibodyModel {
         self.frames.iter().position(|f| f.name == name)
     }
 
+    /// The meshes named by the links' geometry, in file order (from [`geometries`](Self::geometries)).
+    pub fn meshes(&self) -> Vec<MeshRef> {
+        self.geometries
+            .iter()
+            .filter_map(|g| match &g.shape {
+                GeometryShape::Mesh { uri, path, .. } => {
+                    Some(MeshRef { link: g.link.clone(), uri: uri.clone(), path: path.clone(), line: g.line })
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
     /// Where a link geometry sits: the body it is fixed to (`None`: the world) and
     /// `geometry_X_body = geometry_X_link · link_X_body`. `None` if its link is not a frame.
     pub fn geometry_placement(&self, geometry: &LinkGeometry) -> Option<(Option<usize>, Xform)> {
@@ -301,7 +312,6 @@ pub struct ModelBuilder {
     frames: Vec<Frame>,
     world_inertia: RigidInertia,
     warnings: Vec<String>,
-    meshes: Vec<MeshRef>,
     geometries: Vec<LinkGeometry>,
     nq: usize,
     nv: usize,
@@ -403,11 +413,6 @@ impl ModelBuilder {
         }
     }
 
-    /// Records a mesh named by the source.
-    pub fn add_mesh(&mut self, mesh: MeshRef) {
-        self.meshes.push(mesh);
-    }
-
     /// Records a link's collision or visual geometry.
     pub fn add_geometry(&mut self, geometry: LinkGeometry) {
         self.geometries.push(geometry);
@@ -464,7 +469,6 @@ impl ModelBuilder {
             total_mass,
             world_inertia: self.world_inertia,
             warnings: self.warnings,
-            meshes: self.meshes,
             geometries: self.geometries,
             nq: self.nq,
             nv: self.nv,

@@ -15,7 +15,7 @@
 //! - `<collision>` and `<visual>` elements are recorded in `model.geometries` (box, cylinder, sphere,
 //!   mesh with `scale`, each at its `<origin>` in the link frame; `geometry_placement` puts it on the
 //!   body it moves with); a geometry that cannot be used is left out with a warning naming its line.
-//!   `<mesh filename>` is also listed in `model.meshes`, resolved by [`resolve_mesh`] (`package://`,
+//!   `<mesh filename>` is also listed by `model.meshes()`, resolved by [`resolve_mesh`] (`package://`,
 //!   relative and absolute paths) but not read here; what cannot be resolved, or leaves its
 //!   directory, gives a warning.
 //!
@@ -35,9 +35,7 @@
 
 use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
-use super::model::{
-    FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, MeshRef, ModelBuilder, ModelError, MultibodyModel,
-};
+use super::model::{FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
 use crate::math::{DMat3, DVec3};
 use roxmltree::{Document, Node};
@@ -288,7 +286,6 @@ impl<'a, 'input> Parser<'a, 'input> {
         let mut links: Vec<Link> = Vec::new();
         let mut link_index: HashMap<&str, usize> = HashMap::new();
         let mut joint_nodes: Vec<Node> = Vec::new();
-        let mut meshes: Vec<MeshRef> = Vec::new();
         let mut geometries: Vec<LinkGeometry> = Vec::new();
         for node in root.children().filter(|n| n.is_element()) {
             match node.tag_name().name() {
@@ -301,7 +298,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         );
                     }
                     let inertia = self.inertial(node, name, &mut warnings)?;
-                    self.geometries(node, name, &mut meshes, &mut geometries, &mut warnings);
+                    self.geometries(node, name, &mut geometries, &mut warnings);
                     link_index.insert(name, links.len());
                     links.push(Link { node, name, inertia });
                 }
@@ -472,9 +469,6 @@ impl<'a, 'input> Parser<'a, 'input> {
         for g in geometries {
             builder.add_geometry(g);
         }
-        for m in meshes {
-            builder.add_mesh(m);
-        }
         builder.build().map_err(|e| {
             let node = match &e {
                 ModelError::MasslessSubtree { joint, .. } => {
@@ -490,14 +484,7 @@ impl<'a, 'input> Parser<'a, 'input> {
     /// (box, cylinder, sphere, or mesh with its file resolved and its scale), and each mesh in
     /// `meshes` too. A geometry that cannot be used (a missing or non-positive size, an unknown
     /// shape, a bad `<origin>`) is left out with a warning naming its line: the dynamics needs none.
-    fn geometries(
-        &self,
-        link: Node,
-        name: &str,
-        meshes: &mut Vec<MeshRef>,
-        geometries: &mut Vec<LinkGeometry>,
-        warnings: &mut Vec<String>,
-    ) {
+    fn geometries(&self, link: Node, name: &str, geometries: &mut Vec<LinkGeometry>, warnings: &mut Vec<String>) {
         for element in link.children().filter(|n| n.is_element()) {
             let role = match element.tag_name().name() {
                 "collision" => GeometryRole::Collision,
@@ -560,12 +547,6 @@ impl<'a, 'input> Parser<'a, 'input> {
                                     None
                                 }
                             };
-                            meshes.push(MeshRef {
-                                link: name.into(),
-                                uri: uri.into(),
-                                path: path.clone(),
-                                line: mesh_line,
-                            });
                             Ok(GeometryShape::Mesh { uri: uri.into(), path, scale })
                         }
                         Ok(scale) => {
