@@ -28,6 +28,7 @@
 
 pub mod aba;
 pub mod balance;
+pub mod contact_point;
 pub mod crba;
 pub mod energy;
 pub mod fk;
