@@ -9,13 +9,16 @@
 //!   velocity after a rigid impact (`pin.impulseDynamics`, restitution 0 and 1) on the Panda and the
 //!   double pendulum (fixed base) and the Panda on a free-flyer base.
 //!
-//! Each test prints its largest relative error (`--nocapture`).
+//! Each test prints its largest relative error (`--nocapture`). The sweeps allocate nothing (counted by
+//! a per-thread counting allocator, as in `tumble-cli/tests/no_alloc.rs`).
 
 mod multibody_common;
 
 use multibody_common::{assert_close, random_q, random_tree, Base, Rng};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde_json::Value;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use tumble::math::{DMat3, DVec3};
@@ -25,6 +28,31 @@ use tumble::multibody::{
     aba, crba, forward_kinematics, load_urdf, ltdl_factor, update_placements, ChildOrder, MultibodyModel, UrdfOptions,
     Workspace,
 };
+
+struct Counting;
+
+thread_local! {
+    /// Allocations (and reallocations) made by this thread.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // `try_with`: the slot may be gone while the thread ends
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
 
 /// Relative tolerance of `J_c`, `K` and `Δv` (round-off of `O(n)` operations).
 const TOL: f64 = 1e-12;
@@ -201,6 +229,31 @@ fn collision_matrix_three_ways_on_random_trees() {
         "K: largest relative error {worst_k:.2e}; Δv {worst_dv:.2e}; asymmetry {worst_sym:.2e}; \
          smallest eigenvalue / max |K| {min_eig:.2e}"
     );
+}
+
+#[test]
+fn impulse_sweeps_allocate_nothing() {
+    let mut rng = Rng::new(7);
+    let model = random_tree(&mut rng, 12, Base::Floating, true);
+    let nv = model.nv();
+    let mut ws = Workspace::new(&model);
+    let mut scratch = ImpulseScratch::new(&model);
+    let q = random_q(&mut rng, &model);
+    let (v, tau) = (rng.vector(nv, 2.0), rng.vector(nv, 5.0));
+    let mut qdd = vec![0.0; nv];
+    aba(&model, &mut ws, &q, &v, &tau, &mut qdd).unwrap();
+    let mut dv = vec![0.0; nv];
+    let mut trace = 0.0;
+    let before = ALLOCATIONS.with(Cell::get);
+    for body in 0..model.nbodies() {
+        let point_world = DVec3::new(0.1 * body as f64, -0.2, 0.3);
+        impulse_velocity_change(&model, &ws, &mut scratch, body, point_world, DVec3::ONE, &mut dv).unwrap();
+        let k = collision_matrix_aba(&model, &ws, &mut scratch, body, point_world).unwrap();
+        trace += k.x_axis.x + k.y_axis.y + k.z_axis.z + dv[0];
+    }
+    let allocations = ALLOCATIONS.with(Cell::get) - before;
+    assert!(trace.is_finite());
+    assert_eq!(allocations, 0, "allocations in {} impulse sweeps", 2 * model.nbodies());
 }
 
 /// A singular pose: a planar two-link arm struck at its tip, so the point moves in a plane and `K`
