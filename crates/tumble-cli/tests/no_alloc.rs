@@ -141,3 +141,17 @@ fn the_run_loop_allocates_nothing_per_step_with_contacts() {
     let long = contact_allocations("pyramid", 600);
     assert_eq!(short, long, "pyramid: {short} allocations for 100 steps, {long} for 600");
 }
+
+/// Robots in contact (`scenes/quadruped.toml`: a quadruped lands at about step 60 and stands on its
+/// four feet, its rows in the soft step beside the free bodies' constraints; `scenes/chain.toml`: a
+/// chain lands link after link and lies on the floor with 40 contact points) allocate nothing per
+/// step once the contacts have settled: the same allocations for a short and a long run.
+#[test]
+fn the_run_loop_allocates_nothing_per_step_with_robots_in_contact() {
+    let short = contact_allocations("quadruped", 1000);
+    let long = contact_allocations("quadruped", 2000);
+    assert_eq!(short, long, "quadruped: {short} allocations for 1000 steps, {long} for 2000");
+    let short = contact_allocations("chain", 2500);
+    let long = contact_allocations("chain", 3500);
+    assert_eq!(short, long, "chain: {short} allocations for 2500 steps, {long} for 3500");
+}

@@ -155,8 +155,8 @@ fn strikes_with_restitution_below_one_or_friction_never_gain_energy() {
             let samples: Vec<f64> = energies.iter().step_by(10).copied().collect();
             let rise = samples.windows(2).map(|w| w[1] - w[0]).fold(f64::NEG_INFINITY, f64::max);
             let lost = e0 - energies.last().unwrap();
-            // the resting contact's overlap correction may lift the robot by at most the deepest
-            // overlap it had: m |g| d_max is the most it can add
+            // the resting contact's overlap correction could lift the robot by at most the deepest
+            // overlap it had, m |g| d_max (printed for scale)
             let mass: f64 = world.robots[0].model.bodies.iter().map(|b| b.inertia.mass).sum();
             let correction = mass * world.config.gravity.length() * depth;
             println!(
@@ -166,10 +166,8 @@ fn strikes_with_restitution_below_one_or_friction_never_gain_energy() {
             );
             assert!(world.contacts().links.impacts >= 1, "no strike");
             assert!(lost > 0.01 * e0, "e = {e}, μ = {mu}: only {lost} J of {e0} J lost");
-            assert!(
-                rise <= 1e-12 * e0 + correction,
-                "e = {e}, μ = {mu}: the energy rose by {rise:e} J between samples (overlap correction at most {correction:e} J)"
-            );
+            // never a rise beyond the integrator's noise (RK4 keeps a free pendulum to ~1e-14 a step)
+            assert!(rise <= 1e-9 * e0, "e = {e}, μ = {mu}: the energy rose by {rise:e} J between samples");
         }
     }
 }
@@ -282,6 +280,7 @@ fn a_chain_dropped_onto_the_floor_comes_to_rest_without_sinking_or_gaining_energ
     let world = &mut scene.world;
     world.config.duration = 5.0;
     let mut energy = world.energy();
+    let initial = energy;
     let (mut worst_rise, mut worst_depth) = (0.0_f64, 0.0_f64);
     for _ in 0..world.config.step_count() {
         world.step().unwrap();
@@ -292,9 +291,6 @@ fn a_chain_dropped_onto_the_floor_comes_to_rest_without_sinking_or_gaining_energ
         worst_depth = worst_depth.max(link_depth(world));
     }
     let kinetic = world.robots[0].kinetic_energy();
-    let mass: f64 = world.robots[0].model.bodies.iter().map(|b| b.inertia.mass).sum();
-    // the resting contact's overlap correction may lift the chain by at most the deepest overlap
-    let correction = mass * world.config.gravity.length() * worst_depth;
     println!(
         "chain: {} contacts at the end, depth {:.3} mm, largest energy rise in a step {worst_rise:e} J, kinetic {kinetic:e} J",
         world.contacts().links.active().count(),
@@ -302,10 +298,7 @@ fn a_chain_dropped_onto_the_floor_comes_to_rest_without_sinking_or_gaining_energ
     );
     assert!(worst_depth < 2e-3, "the chain sank {worst_depth} m into the floor");
     assert!(kinetic < 1e-6, "the chain is not at rest after 5 s: T = {kinetic} J");
-    assert!(
-        worst_rise <= correction,
-        "the chain gained {worst_rise} J in one step (the overlap correction: {correction} J)"
-    );
+    assert!(worst_rise <= 1e-9 * initial.abs(), "the chain gained {worst_rise} J in one step (E₀ = {initial} J)");
 }
 
 #[test]

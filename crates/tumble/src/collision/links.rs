@@ -318,14 +318,25 @@ fn manifold_contacts(
     out: &mut Vec<LinkContact>,
 ) {
     let pos12 = pose_a.inv_mul(pose_b);
-    let found = DefaultQueryDispatcher.contact_manifolds(
-        &pos12,
-        shape_a.as_ref(),
-        shape_b.as_ref(),
-        prediction,
-        &mut cache.manifolds,
-        &mut cache.workspace,
-    );
+    let found = if shape_a.as_composite_shape().is_none() && shape_b.as_composite_shape().is_none() {
+        // two convex shapes: one manifold, made in its own buffer (parry's half-space manifold
+        // allocates a new one at every call)
+        if cache.manifolds.is_empty() {
+            cache.manifolds.push(ContactManifold::new());
+            cache.manifolds[0].points.reserve(16);
+        }
+        cache.manifolds[0].points.clear();
+        super::pairs::convex_manifold(&pos12, shape_a.as_ref(), shape_b.as_ref(), prediction, &mut cache.manifolds[0])
+    } else {
+        DefaultQueryDispatcher.contact_manifolds(
+            &pos12,
+            shape_a.as_ref(),
+            shape_b.as_ref(),
+            prediction,
+            &mut cache.manifolds,
+            &mut cache.workspace,
+        )
+    };
     if found.is_err() {
         return;
     }

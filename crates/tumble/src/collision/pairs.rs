@@ -159,7 +159,7 @@ impl PairManifold {
 /// the same way into the manifold's own buffer: parry's version moves its points out and pushes
 /// the new ones into a fresh `Vec`, one allocation per call (the dispatcher takes a ball first, as
 /// parry's does).
-fn convex_manifold(
+pub(super) fn convex_manifold(
     pos12: &Pose,
     shape1: &dyn Shape,
     shape2: &dyn Shape,

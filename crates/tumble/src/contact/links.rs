@@ -36,11 +36,13 @@
 //!    solver velocity gains `h a₀`, the rows change it by `W Δλ`, and its displacement in velocity
 //!    coordinates grows by `h v`, which moves the point by `J_c d` (the row's separation).
 //!
-//! A robot the resting rows reached gets, at the start of its own step, the velocity change
-//! `Δv = v_solver − (v₀ + a₀ dt)` (the integrator then ends at the solver's velocity, up to the
-//! change of `a` over the step) and ends its step where the substeps moved it, `q₀ ⊕ d`, before its
-//! joint limits act. A robot only struck (collisions, no resting impulse) gets the collisions' `Δv`
-//! and is integrated as usual.
+//! A robot the resting rows reached is integrated by its own method (RK4 or Euler) with the rows'
+//! generalized force over the step added to its joint forces, `τ_c = Jᵀ Λ / dt = M (v_solver − v₀ −
+//! a₀ dt) / dt` (`Λ` the rows' impulses of the step), so that it ends at the solver's velocity up to
+//! the change of `a` over the step, and its configuration is then replaced by where the substeps put
+//! it, `q₀ ⊕ d`, which holds the overlap correction (before its joint limits' end-of-step phase). A
+//! robot only struck (collisions, no resting impulse) gets the collisions' `Δv` at the start of its
+//! step and is integrated as usual.
 
 use super::impact::tangent_basis;
 use super::solver::{Pass, Softness, SolverBody, Sweep};
@@ -50,7 +52,7 @@ use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
 use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::contact_point::{impulse_response, point_jacobian};
-use crate::multibody::{aba, crba, ltdl_factor, Control, MultibodyModel, Workspace};
+use crate::multibody::{aba, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
 use crate::world::Robot;
 use parry3d_f64::math::Pose;
 
@@ -137,6 +139,7 @@ struct RobotSolve {
     /// What the robot's own step takes: `Δv` and, when held, `q₀ ⊕ d`.
     dv: Vec<f64>,
     q_end: Vec<f64>,
+    tau_c: Vec<f64>,
     struck: bool,
     touched: bool,
 }
@@ -514,21 +517,31 @@ impl LinkStage {
                 lambda: row.lambda,
             });
         }
-        self.previous.sort_by_key(|p| (p.a, p.b));
+        // (std's stable sort allocates for more than 20 elements; the order within a pair does not
+        // matter to the lookup, which looks at every point of the pair)
+        if !self.previous.is_sorted_by_key(|p| (p.a, p.b)) {
+            self.previous.sort_unstable_by_key(|p| (p.a, p.b));
+        }
         for (r, robot) in self.robots.iter_mut().zip(robots) {
             if !r.engaged {
                 continue;
             }
             let view = robot.contact_view();
             if r.touched {
-                // Δv = v_solver − (v₀ + a₀ dt);  q_end = q₀ ⊕ d
-                for i in 0..r.nv {
-                    r.dv[i] = r.v[i] - (r.v0[i] + r.a0[i] * dt);
-                }
+                // where the substeps put it, q₀ ⊕ d, and the contact's generalized force over the
+                // step, τ_c = Jᵀ Λ / dt = M (v_solver − v₀ − a₀ dt) / dt
                 if view.model.integrate(view.q, &r.d, 1.0, &mut r.q_end).is_err() {
                     r.touched = false;
                 }
-            } else if r.struck {
+                for i in 0..r.nv {
+                    r.dv[i] = (r.v[i] - (r.v0[i] + r.a0[i] * dt)) / dt;
+                }
+                let m = &r.ws.mass_matrix;
+                for i in 0..r.nv {
+                    r.tau_c[i] = (0..r.nv).map(|j| m[(i, j)] * r.dv[j]).sum();
+                }
+            }
+            if r.struck && !r.touched {
                 // the collisions' Δv alone: v after them is v₀ + Δv, before the substeps' h a₀
                 for i in 0..r.nv {
                     r.dv[i] = r.v[i] - (r.v0[i] + r.a0[i] * dt);
@@ -537,14 +550,20 @@ impl LinkStage {
         }
     }
 
-    /// What robot `robot`'s own step takes from the contacts: the velocity change at the start of
-    /// the step, and the end configuration when resting contact held it. `None`: untouched.
-    pub fn robot_change(&self, robot: usize) -> Option<(&[f64], Option<&[f64]>)> {
+    /// What robot `robot`'s own step takes from the contacts: the end state of the substeps when
+    /// resting contact held it, else the collisions' velocity change. `None`: untouched.
+    pub fn robot_change(&self, robot: usize) -> Option<ContactChange<'_>> {
         let r = self.robots.get(robot)?;
-        if !r.engaged || !(r.touched || r.struck) {
+        if !r.engaged {
             return None;
         }
-        Some((&r.dv, r.touched.then_some(r.q_end.as_slice())))
+        if r.touched {
+            Some(ContactChange::Held { q: &r.q_end, tau: &r.tau_c })
+        } else if r.struck {
+            Some(ContactChange::Impulse(&r.dv))
+        } else {
+            None
+        }
     }
 
     /// Forgets the step's rows (no contact this step).
@@ -573,6 +592,7 @@ impl RobotSolve {
             d: vec![0.0; nv],
             dv: vec![0.0; nv],
             q_end: vec![0.0; model.nq()],
+            tau_c: vec![0.0; nv],
             struck: false,
             touched: false,
         }

@@ -59,7 +59,7 @@ pub use model::{
     MultibodyModel,
 };
 pub use rnea::{bias_forces, rnea};
-pub use simulate::{Control, Method, Simulator};
+pub use simulate::{ContactChange, Control, Method, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, Massless, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};

@@ -134,6 +134,18 @@ impl Control {
     }
 }
 
+/// What a contact solve changes in a tree's step ([`Simulator::step_with_contact`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactChange<'a> {
+    /// Collisions only: the joint velocity change (nv) at the start of the step.
+    Impulse(&'a [f64]),
+    /// Resting contact held the tree: the contact's generalized force over the step (nv),
+    /// `τ_c = Jᵀ Λ / dt`, which the integrator adds to the joint forces, and the configuration (nq)
+    /// where the contact solver's substeps put the tree at the end of the step, which replaces the
+    /// integrator's (it holds the overlap correction).
+    Held { q: &'a [f64], tau: &'a [f64] },
+}
+
 /// How a [`Simulator`] steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
@@ -163,6 +175,10 @@ pub struct Simulator {
     limits: Option<JointLimitSolver>,
     /// Coordinates whose commanded force was clamped during the last step (nv).
     clamped: Vec<bool>,
+    /// A contact's generalized force over the current step (nv), added to the joint forces while
+    /// `contact_force` is set ([`ContactChange::Held`]).
+    tau_contact: Vec<f64>,
+    contact_force: bool,
 }
 
 impl Simulator {
@@ -183,6 +199,8 @@ impl Simulator {
             v_stage: vec![0.0; nv],
             limits: None,
             clamped: vec![false; nv],
+            tau_contact: vec![0.0; nv],
+            contact_force: false,
         })
     }
 
@@ -213,17 +231,18 @@ impl Simulator {
         self.step_with_contact(model, control, method, dt, None)
     }
 
-    /// Advances by `dt` seconds with the change of a contact solve (see
-    /// [`crate::contact::links`]): `Δv` (nv) added to `v` at the start of the step and, when
-    /// resting contact held the tree, the configuration (nq) it ends at, taken after the integrator
-    /// and before the joint limits' end-of-step phase.
+    /// Advances by `dt` seconds with the outcome of a contact solve (see [`crate::contact::links`]):
+    /// a collision's velocity change, added at the start of the step before the integrator; or the
+    /// end state of a tree that resting contact held, which the contact solver's substeps
+    /// integrated (the joint limits' end-of-step phases then act on it, with the position weight of
+    /// semi-implicit Euler).
     pub fn step_with_contact(
         &mut self,
         model: &MultibodyModel,
         control: &Control,
         method: Method,
         dt: f64,
-        contact: Option<(&[f64], Option<&[f64]>)>,
+        contact: Option<ContactChange<'_>>,
     ) -> Result<(), AbaError> {
         control.check(model)?;
         // the simulator's own vectors were sized for a model: it must be this one
@@ -232,10 +251,20 @@ impl Simulator {
         check_len("q (the model the simulator was made for)", self.q_stage.len(), model.nq())?;
         check_len("v (the model the simulator was made for)", self.v_stage.len(), model.nv())?;
         self.clamped.fill(false);
-        if let Some((dv, _)) = contact {
-            check_len("contact velocity change", dv.len(), model.nv())?;
-            for (v, d) in self.v.iter_mut().zip(dv) {
-                *v += d;
+        self.contact_force = false;
+        match contact {
+            None => {}
+            Some(ContactChange::Impulse(dv)) => {
+                check_len("contact velocity change", dv.len(), model.nv())?;
+                for (v, d) in self.v.iter_mut().zip(dv) {
+                    *v += d;
+                }
+            }
+            Some(ContactChange::Held { q, tau }) => {
+                check_len("contact end configuration", q.len(), model.nq())?;
+                check_len("contact force", tau.len(), model.nv())?;
+                self.tau_contact.copy_from_slice(tau);
+                self.contact_force = true;
             }
         }
         if let Some(limits) = &mut self.limits {
@@ -248,6 +277,7 @@ impl Simulator {
             Method::SemiImplicitEuler => {
                 // v ← v + dt v̇(q, v);  q ← q ⊕ v dt
                 control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                self.add_contact_force();
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 for (v, a) in self.v.iter_mut().zip(&self.k_v[0]) {
                     *v += dt * a;
@@ -258,6 +288,7 @@ impl Simulator {
             Method::Euler => {
                 // q ← q ⊕ v dt and v ← v + dt v̇(q, v), from the old (q, v)
                 control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                self.add_contact_force();
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 self.q_stage.copy_from_slice(&self.q);
                 model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
@@ -266,11 +297,11 @@ impl Simulator {
                 }
             }
         }
-        if let Some((_, Some(q_end))) = contact {
+        if let Some(ContactChange::Held { q, .. }) = contact {
             // resting contact moved the tree in its substeps: it ends where they put it
-            check_len("contact end configuration", q_end.len(), model.nq())?;
-            self.q.copy_from_slice(q_end);
+            self.q.copy_from_slice(q);
             normalize_quaternions(model, &mut self.q);
+            self.contact_force = false;
         }
         if let Some(limits) = &mut self.limits {
             // phase 2: the constraint force over the step, Δq = c h Δv (c = ½ for RK4, 1 for
@@ -291,6 +322,16 @@ impl Simulator {
         Ok(())
     }
 
+    /// `τ += τ_c` while a contact force acts over the step.
+    #[inline]
+    fn add_contact_force(&mut self) {
+        if self.contact_force {
+            for (t, c) in self.tau.iter_mut().zip(&self.tau_contact) {
+                *t += c;
+            }
+        }
+    }
+
     fn rk4(&mut self, model: &MultibodyModel, control: &Control, dt: f64) -> Result<(), AbaError> {
         const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
         for (s, c) in C.iter().enumerate() {
@@ -309,6 +350,7 @@ impl Simulator {
             }
             model.coordinate_rate(&self.q_stage, &self.v_stage, &mut self.k_q[s])?;
             control.forces(model, &self.q_stage, &self.v_stage, &mut self.tau, Some(&mut self.clamped));
+            self.add_contact_force();
             aba(model, &mut self.ws, &self.q_stage, &self.v_stage, &self.tau, &mut self.k_v[s])?;
         }
         // y ← y + dt/6 (k1 + 2 k2 + 2 k3 + k4)

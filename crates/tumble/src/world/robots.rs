@@ -274,14 +274,13 @@ impl Robot {
 
     /// One step of `dt` seconds; on a non-finite or absurd state, the state is restored and the
     /// problem described (`joint `elbow`: v is not finite`).
-    /// `contact`: the velocity change of the step's contacts and, when resting contact held the
-    /// robot, its end configuration ([`crate::contact::links::LinkStage::robot_change`]).
+    /// `contact`: what the step's contacts changed ([`crate::contact::links::LinkStage::robot_change`]).
     fn step(
         &mut self,
         method: Method,
         dt: f64,
         gravity: DVec3,
-        contact: Option<(&[f64], Option<&[f64]>)>,
+        contact: Option<crate::multibody::ContactChange<'_>>,
     ) -> Result<(), String> {
         self.model.gravity = gravity;
         self.q_before.copy_from_slice(&self.sim.q);
