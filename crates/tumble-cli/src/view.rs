@@ -47,6 +47,8 @@ use tumble::trajectory::derived::{self, InvariantErrors};
 use tumble::trajectory::Trajectory;
 use tumble::{RigidBody, World};
 
+mod contacts;
+mod link_geometry;
 mod robots;
 
 /// The page, with its data marker.
@@ -81,8 +83,12 @@ pub fn view(args: &ViewArgs) -> Result<Status, Failure> {
     if let Some(note) = truncation_note(&trajectory) {
         let _ = writeln_stderr(&format!("warning: {}: {note}", args.trajectory.display()));
     }
-    let page = page(&trajectory, &scene.world, &scene.origin, &args.trajectory).map_err(Failure::bad_input)?;
-    write_output(&args.out, page.as_bytes())?;
+    let page = page(&trajectory, &scene.world, &scene.origin, &args.trajectory, args.contacts.as_deref())
+        .map_err(Failure::bad_input)?;
+    for warning in &page.warnings {
+        let _ = writeln_stderr(&format!("warning: {warning}"));
+    }
+    write_output(&args.out, page.html.as_bytes())?;
     Ok(Status::Success)
 }
 
@@ -106,15 +112,36 @@ pub fn frames_budget(world: &World, requested: Option<usize>) -> usize {
     requested.unwrap_or((MAX_BODY_SAMPLES / moving).clamp(2, MAX_FRAMES)).max(2)
 }
 
-/// The page for a trajectory of the scene `world` (from `origin`); `path` names the trajectory in
-/// the title and messages.
-pub fn page(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
-    let data = data(trajectory, world, origin, path)?;
-    Ok(TEMPLATE.replacen(DATA_MARKER, &data, 1))
+/// A replay: the page, and the warnings to print (meshes not drawn, a contacts file cut short).
+#[derive(Debug, Clone)]
+pub struct Page {
+    pub html: String,
+    pub warnings: Vec<String>,
 }
 
-/// The replay's data as JSON (the fields of the module doc).
-fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
+/// The page for a trajectory of the scene `world` (from `origin`), with the contacts file
+/// `contacts` drawn over it if given; `path` names the trajectory in the title and messages.
+pub fn page(
+    trajectory: &Trajectory,
+    world: &World,
+    origin: &str,
+    path: &Path,
+    contacts: Option<&Path>,
+) -> Result<Page, String> {
+    let mut warnings = Vec::new();
+    let data = data(trajectory, world, origin, path, contacts, &mut warnings)?;
+    Ok(Page { html: TEMPLATE.replacen(DATA_MARKER, &data, 1), warnings })
+}
+
+/// The replay's data as JSON (the fields of the module doc); warnings are pushed to `warnings`.
+fn data(
+    trajectory: &Trajectory,
+    world: &World,
+    origin: &str,
+    path: &Path,
+    contacts: Option<&Path>,
+    warnings: &mut Vec<String>,
+) -> Result<String, String> {
     let name = path.display().to_string();
     let invariants = derived::invariants(trajectory, world, &name, origin).map_err(|e| e.to_string())?;
     let errors = InvariantErrors::of(&invariants);
@@ -172,7 +199,8 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     }
     for robot in &world.robots {
         colour += 1;
-        robots::push_bodies(&mut out, &mut first, robot, PALETTE[(colour - 1) % PALETTE.len()], &trajectory.bodies);
+        let color = PALETTE[(colour - 1) % PALETTE.len()];
+        warnings.extend(robots::push_bodies(&mut out, &mut first, robot, color, &trajectory.bodies));
     }
     out.push_str("],");
 
@@ -202,7 +230,30 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     } + crate::plot::driven_note(world);
     let _ = write!(out, "\"energy\":{{\"label\":{},\"values\":[", json_string(&label));
     push_joined(&mut out, errors.energy.iter().copied());
-    out.push_str("]}}");
+    out.push_str("]},\"contacts\":");
+    match contacts {
+        None => out.push_str("null"),
+        Some(file) => {
+            let times: Vec<f64> = trajectory.frames.iter().map(|f| f.t).collect();
+            let (overlay, cut_short) = contacts::read(file, &times, world)?;
+            warnings.extend(cut_short);
+            let _ = write!(
+                out,
+                "{{\"source\":{},\"reference\":{},\"reference_of\":{},\"most\":{},\"frames\":[",
+                json_string(&file.display().to_string()),
+                num(overlay.reference),
+                json_string(overlay.reference_of),
+                overlay.most
+            );
+            for (k, frame) in overlay.frames.iter().enumerate() {
+                out.push_str(if k > 0 { ",[" } else { "[" });
+                push_joined(&mut out, frame.iter().copied());
+                out.push(']');
+            }
+            out.push_str("]}");
+        }
+    }
+    out.push('}');
     Ok(out)
 }
 
