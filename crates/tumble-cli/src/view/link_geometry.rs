@@ -73,8 +73,9 @@ pub struct LinkDrawing {
 pub struct LinkGeometries {
     /// Each mesh file read once (a file several links name, or left and right by a mirrored scale).
     cache: HashMap<PathBuf, Result<Rc<MeshSoup>, String>>,
-    /// Each mesh element that could not be read: why, and `uri (link 'name', <visual> line N)`.
-    pub unreadable: Vec<(String, String)>,
+    /// Each mesh element that could not be read: why, its line in the URDF, and
+    /// `uri (link 'name', <visual> line N)`.
+    pub unreadable: Vec<(String, u32, String)>,
 }
 
 impl LinkGeometries {
@@ -123,7 +124,7 @@ impl LinkGeometries {
                 match read {
                     Ok(soup) => PartShape::Mesh { soup, scale: *scale },
                     Err(why) => {
-                        let entry = (why, format!("{uri} (link '{}', <{role}> line {})", g.link, g.line));
+                        let entry = (why, g.line, format!("{uri} (link '{}', <{role}> line {})", g.link, g.line));
                         if !self.unreadable.contains(&entry) {
                             self.unreadable.push(entry);
                         }
@@ -147,6 +148,7 @@ impl LinkGeometries {
                         Some(ext) if ext.eq_ignore_ascii_case("dae") => {
                             "COLLADA (.dae) is not read: convert it to STL or OBJ".to_string()
                         }
+                        _ if !path.exists() => format!("missing (the path tried: {})", path.display()),
                         _ => format!("{} ({})", e.problem, path.display()),
                     })
             })
@@ -258,13 +260,15 @@ fn cluster(points: &[DVec3], triangles: &[[u32; 3]], cell: f64) -> (Vec<DVec3>, 
 }
 
 /// The warning of a robot whose meshes could not all be read, or `None`: one line, the meshes
-/// grouped by why.
-pub fn warning(robot: &str, unreadable: &[(String, String)]) -> Option<String> {
+/// grouped by why, in the URDF's order.
+pub fn warning(robot: &str, unreadable: &[(String, u32, String)]) -> Option<String> {
     if unreadable.is_empty() {
         return None;
     }
+    let mut sorted: Vec<&(String, u32, String)> = unreadable.iter().collect();
+    sorted.sort_by_key(|(_, line, _)| *line);
     let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
-    for (why, what) in unreadable {
+    for (why, _, what) in sorted {
         match groups.iter_mut().find(|(w, _)| w == why) {
             Some((_, items)) => items.push(what),
             None => groups.push((why, vec![what])),
