@@ -14,19 +14,27 @@
 //!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
 //!   `convex_hull {vertices, triangles}` (a `convex` shape). A compound has one part per shape, at
 //!   its pose. A body without a shape gets its inertia-equivalent box (`inertia_box: true`).
-//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's name and
-//!   `marker` whether it is drawn as a small sphere; the legend lists the links by robot. A moving
-//!   link's `index` is its trajectory row, which holds the **link frame's** pose (origin and
-//!   `world_from_link`, not the centre of mass): its one part is its inertia-equivalent box
-//!   (`inertia_box: true`) placed at the link's centre of mass and principal axes within the link
-//!   frame, or, for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`). The
-//!   links fixed to the world (a fixed base) are fixed bodies (`index: null`), drawn the same way.
+//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's
+//!   name; the legend lists the links by robot. A moving link's `index` is its trajectory row, which
+//!   holds the **link frame's** pose (origin and `world_from_link`, not the centre of mass); the
+//!   links fixed to the world (a fixed base) are fixed bodies (`index: null`). A link's parts are its
+//!   URDF geometry (`view/link_geometry.rs`: its `<visual>` elements if all can be drawn, else its
+//!   `<collision>` elements, each at its `<origin>` in the link frame; meshes as `mesh` parts), else
+//!   its inertia-equivalent box at its centre of mass and principal axes (`inertia_box: true`), else,
+//!   for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`); `drawn` says
+//!   which (`"visual"`, `"collision"`, `"inertia_box"`, `"marker"`).
 //! - `times` (s) and `frames`: per frame, `x, y, z, qw, qx, qy, qz` of every moving body in order
 //!   (world frame, m; orientation `world_from_user`, for a robot link `world_from_link`);
 //! - `energy`: `{label, values}`, the relative energy error per frame (or `null`) of the whole
 //!   system: the moving bodies and the robots' links (kinetic plus gravitational potential, the
 //!   energy of the run summary; see `tumble::trajectory::derived`). For a robot driven by PD control
 //!   or damped, the change is the work of the controls and the damping, not an integration error.
+//! - `contacts` (`view/contacts.rs`; `null` without `--contacts`): `{source, reference, reference_of,
+//!   most, stride, frames}`, per frame the points and forces (`px, py, pz, fx, fy, fz` per contact, m
+//!   and N, world frame) of the contacts file's sample nearest the frame's time (`null` for the frames
+//!   left out when there are very many: only every `stride`-th frame is written), and the force (N)
+//!   the page scales the arrows against (the robots' weight, else the moving bodies', else the
+//!   largest).
 //!
 //! **Decimation.** At most about [`MAX_BODY_SAMPLES`] body-samples are kept (between that and twice
 //! it, and never more than 2 × [`MAX_FRAMES`] frames): frames are dropped evenly (every `2^k`-th
@@ -239,16 +247,23 @@ fn data(
             warnings.extend(cut_short);
             let _ = write!(
                 out,
-                "{{\"source\":{},\"reference\":{},\"reference_of\":{},\"most\":{},\"frames\":[",
+                "{{\"source\":{},\"reference\":{},\"reference_of\":{},\"most\":{},\"stride\":{},\"frames\":[",
                 json_string(&file.display().to_string()),
                 num(overlay.reference),
                 json_string(overlay.reference_of),
-                overlay.most
+                overlay.most,
+                overlay.stride
             );
             for (k, frame) in overlay.frames.iter().enumerate() {
-                out.push_str(if k > 0 { ",[" } else { "[" });
-                push_joined(&mut out, frame.iter().copied());
-                out.push(']');
+                out.push_str(if k > 0 { "," } else { "" });
+                match frame {
+                    Some(frame) => {
+                        out.push('[');
+                        push_joined(&mut out, frame.iter().copied());
+                        out.push(']');
+                    }
+                    None => out.push_str("null"),
+                }
             }
             out.push_str("]}");
         }

@@ -8,6 +8,10 @@
 //! one run): `frames[k]` is a flat list of `px, py, pz, fx, fy, fz` per contact (m, N). The file is
 //! read line by line and only the samples chosen are kept, so memory is that of the page.
 //!
+//! **Page size.** At most about [`MAX_CONTACTS`] contacts (summed over the frames) are written: past
+//! that, only every `stride`-th frame carries its contacts (the others are `null`), and the page
+//! shows those of the nearest frame that has them.
+//!
 //! The arrows are scaled in the page against `reference` (N): the weight of the robots (their
 //! total mass times |g|), else that of the moving bodies, else (no gravity) the largest force of the
 //! file, so that this force is a readable length; the legend says the scale.
@@ -16,11 +20,17 @@ use std::io::BufRead;
 use std::path::Path;
 use tumble::World;
 
+/// Contacts written to a page, about (each is 6 numbers, some 60 bytes).
+pub const MAX_CONTACTS: usize = 30_000;
+
 /// The overlay: per frame kept, the contacts of the nearest sample; the force that sets the scale.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Overlay {
-    /// Per frame: `px, py, pz, fx, fy, fz` per contact (m, world frame; N, on `b`).
-    pub frames: Vec<Vec<f64>>,
+    /// Per frame: `px, py, pz, fx, fy, fz` per contact (m, world frame; N, on `b`); `None` for the
+    /// frames left out (see `stride`).
+    pub frames: Vec<Option<Vec<f64>>>,
+    /// Only every `stride`-th frame carries its contacts (1: all).
+    pub stride: usize,
     /// The force an arrow's length is scaled against (N), and what it is.
     pub reference: f64,
     pub reference_of: &'static str,
@@ -86,6 +96,9 @@ pub fn read(path: &Path, times: &[f64], world: &World) -> Result<(Overlay, Optio
     let last = previous.map(|p| p.contacts).unwrap_or_default();
     frames.resize(times.len(), last);
     let most = frames.iter().map(|f| f.len() / 6).max().unwrap_or(0);
+    let total: usize = frames.iter().map(|f| f.len() / 6).sum();
+    let stride = total.div_ceil(MAX_CONTACTS).max(1);
+    let frames = frames.into_iter().enumerate().map(|(k, f)| (k % stride == 0).then_some(f)).collect();
     let g = world.config.gravity.length();
     let robots: f64 = world.robots.iter().map(|r| r.model.total_mass).sum();
     let bodies: f64 = world.free_bodies().map(|b| b.mass.mass).sum();
@@ -96,7 +109,7 @@ pub fn read(path: &Path, times: &[f64], world: &World) -> Result<(Overlay, Optio
     } else {
         (largest, "the largest contact force")
     };
-    Ok((Overlay { frames, reference, reference_of, most }, cut_short))
+    Ok((Overlay { frames, stride, reference, reference_of, most }, cut_short))
 }
 
 /// One line of the file.
@@ -143,10 +156,29 @@ mod tests {
         std::fs::write(&path, text).unwrap();
         let (overlay, cut) = read(&path, &[0.0, 0.24, 0.26, 0.9, 2.0], &world()).unwrap();
         assert_eq!(cut, None);
-        let xs: Vec<f64> = overlay.frames.iter().map(|f| f[0]).collect();
+        let xs: Vec<f64> = overlay.frames.iter().map(|f| f.as_ref().unwrap()[0]).collect();
+        assert_eq!(overlay.stride, 1);
         assert_eq!(xs, [0.0, 2.0, 3.0, 9.0, 9.0]);
         assert_eq!(overlay.most, 1);
         assert_eq!((overlay.reference, overlay.reference_of), (2.0, "the largest contact force"));
+    }
+
+    #[test]
+    fn many_contacts_are_written_for_every_stride_th_frame() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("c.jsonl");
+        // 10 frames of 7,000 contacts each: 70,000, so every third frame is kept
+        let contact =
+            "{\"a\":\"floor\",\"b\":\"ball\",\"point\":[0,0,0],\"normal\":[0,0,1],\"depth\":0,\"force\":[0,0,1]}";
+        let many = vec![contact; 7_000].join(",");
+        let text: String = (0..10).map(|k| format!("{{\"t\":{k},\"contacts\":[{many}]}}\n")).collect();
+        std::fs::write(&path, text).unwrap();
+        let times: Vec<f64> = (0..10).map(f64::from).collect();
+        let (overlay, _) = read(&path, &times, &world()).unwrap();
+        assert_eq!(overlay.stride, 3);
+        let kept: Vec<bool> = overlay.frames.iter().map(Option::is_some).collect();
+        assert_eq!(kept, [true, false, false, true, false, false, true, false, false, true]);
+        assert_eq!(overlay.frames[3].as_ref().unwrap().len(), 6 * 7_000);
     }
 
     #[test]
@@ -159,6 +191,7 @@ mod tests {
         std::fs::write(&path, format!("{}{{\"t\":0.1,\"cont", line(0.0, 1.0))).unwrap();
         let (overlay, cut) = read(&path, &[0.0, 0.1], &world()).unwrap();
         assert!(cut.unwrap().ends_with("c.jsonl:2: the last line is cut short (dropped)"));
-        assert_eq!(overlay.frames, [vec![1.0, 0.0, 0.0, 0.0, 0.0, 2.0], vec![1.0, 0.0, 0.0, 0.0, 0.0, 2.0]]);
+        let contact = vec![1.0, 0.0, 0.0, 0.0, 0.0, 2.0];
+        assert_eq!(overlay.frames, [Some(contact.clone()), Some(contact)]);
     }
 }
