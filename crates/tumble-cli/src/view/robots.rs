@@ -97,12 +97,15 @@ pub(super) fn push_bodies(
     let moving = (0..robot.link_names().len()).map(|k| robot.link_frame(k));
     let fixed = robot.model.frames.iter().filter(|f| f.body.is_none());
     let frames: Vec<&Frame> = moving.chain(fixed).collect();
-    let boxes: Vec<Drawn> = frames.iter().map(|f| drawn(&f.inertia)).collect();
-    let radius = marker_radius(&boxes);
+    // what each link is drawn as from its mass (the markers sized by the boxes), and from its URDF
+    // geometry if it has some that can be drawn (which then wins)
+    let from_mass: Vec<Drawn> = frames.iter().map(|f| drawn(&f.inertia)).collect();
+    let radius = marker_radius(&from_mass);
     let mut geometries = LinkGeometries::default();
-    let drawings: Vec<Option<LinkDrawing>> = frames.iter().map(|f| geometries.drawing(&robot.model, &f.name)).collect();
-    let budget = mesh_budget(drawings.iter().flatten());
-    for (k, ((frame, drawing), geometry)) in frames.iter().zip(&boxes).zip(&drawings).enumerate() {
+    let from_urdf: Vec<Option<LinkDrawing>> =
+        frames.iter().map(|f| geometries.drawing(&robot.model, &f.name)).collect();
+    let budget = mesh_budget(from_urdf.iter().flatten());
+    for (k, ((frame, from_mass), from_urdf)) in frames.iter().zip(&from_mass).zip(&from_urdf).enumerate() {
         let is_moving = frame.body.is_some();
         let name = format!("{}/{}", robot.name, frame.name);
         let index = if is_moving { trajectory_bodies.iter().position(|n| n == &name) } else { None };
@@ -116,10 +119,10 @@ pub(super) fn push_bodies(
         };
         let shade = if is_moving { LINK_SHADES[k % LINK_SHADES.len()] } else { FIXED_SHADE };
         let mut rgb = color.map(|c| c * shade);
-        let (parts, what) = match (geometry, *drawing) {
-            (Some(geometry), _) => (
-                geometry.parts_json(budget),
-                match geometry.role {
+        let (parts, what) = match (from_urdf, *from_mass) {
+            (Some(urdf), _) => (
+                urdf.parts_json(budget),
+                match urdf.role {
                     GeometryRole::Visual => "visual",
                     GeometryRole::Collision => "collision",
                 },
