@@ -203,6 +203,11 @@ pub struct ViewArgs {
     /// Keep about this many frames (between it and twice it) [default: 1000, fewer for many bodies].
     #[arg(long, value_name = "N")]
     pub max_frames: Option<usize>,
+
+    /// Draw the contacts of this file (from `tumble run --contacts`): the points and the forces of
+    /// the sample nearest each frame, toggled by a checkbox.
+    #[arg(long, value_name = "FILE.jsonl")]
+    pub contacts: Option<PathBuf>,
 }
 
 /// `tumble check`.

@@ -194,8 +194,14 @@ pub fn after_run(args: &RunArgs, world: &World, origin: &str, out: &Path) -> Res
     }
     if let Some(view) = &args.view {
         let trajectory = read_trajectory(out, crate::view::frames_budget(world, None), read_back)?;
-        let page = crate::view::page(&trajectory, world, origin, out).map_err(Failure::output)?;
-        write_output(view, page.as_bytes())?;
+        let page =
+            crate::view::page(&trajectory, world, origin, out, args.contacts.as_deref()).map_err(Failure::output)?;
+        if !args.quiet {
+            for warning in &page.warnings {
+                let _ = writeln!(std::io::stderr().lock(), "warning: {warning}");
+            }
+        }
+        write_output(view, page.html.as_bytes())?;
     }
     if args.scene.is_none() && args.view.is_none() && !args.quiet {
         // the demo says how to watch it

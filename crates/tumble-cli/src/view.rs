@@ -14,19 +14,27 @@
 //!   half_height}`, `cylinder {radius, half_height}`, `plane {}` (a floor grid), `mesh` or
 //!   `convex_hull {vertices, triangles}` (a `convex` shape). A compound has one part per shape, at
 //!   its pose. A body without a shape gets its inertia-equivalent box (`inertia_box: true`).
-//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's name and
-//!   `marker` whether it is drawn as a small sphere; the legend lists the links by robot. A moving
-//!   link's `index` is its trajectory row, which holds the **link frame's** pose (origin and
-//!   `world_from_link`, not the centre of mass): its one part is its inertia-equivalent box
-//!   (`inertia_box: true`) placed at the link's centre of mass and principal axes within the link
-//!   frame, or, for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`). The
-//!   links fixed to the world (a fixed base) are fixed bodies (`index: null`), drawn the same way.
+//! - Robots (`view/robots.rs`): every link is a body named `robot/link`, with `robot` its robot's
+//!   name; the legend lists the links by robot. A moving link's `index` is its trajectory row, which
+//!   holds the **link frame's** pose (origin and `world_from_link`, not the centre of mass); the
+//!   links fixed to the world (a fixed base) are fixed bodies (`index: null`). A link's parts are its
+//!   URDF geometry (`view/link_geometry.rs`: its `<visual>` elements if all can be drawn, else its
+//!   `<collision>` elements, each at its `<origin>` in the link frame; meshes as `mesh` parts), else
+//!   its inertia-equivalent box at its centre of mass and principal axes (`inertia_box: true`), else,
+//!   for a link without mass (`tip`), a sphere at the frame's origin (`marker: true`); `drawn` says
+//!   which (`"visual"`, `"collision"`, `"inertia_box"`, `"marker"`).
 //! - `times` (s) and `frames`: per frame, `x, y, z, qw, qx, qy, qz` of every moving body in order
 //!   (world frame, m; orientation `world_from_user`, for a robot link `world_from_link`);
 //! - `energy`: `{label, values}`, the relative energy error per frame (or `null`) of the whole
 //!   system: the moving bodies and the robots' links (kinetic plus gravitational potential, the
 //!   energy of the run summary; see `tumble::trajectory::derived`). For a robot driven by PD control
 //!   or damped, the change is the work of the controls and the damping, not an integration error.
+//! - `contacts` (`view/contacts.rs`; `null` without `--contacts`): `{source, reference, reference_of,
+//!   most, stride, frames}`, per frame the points and forces (`px, py, pz, fx, fy, fz` per contact, m
+//!   and N, world frame) of the contacts file's sample nearest the frame's time (`null` for the frames
+//!   left out when there are very many: only every `stride`-th frame is written), and the force (N)
+//!   the page scales the arrows against (the robots' weight, else the moving bodies', else the
+//!   largest).
 //!
 //! **Decimation.** At most about [`MAX_BODY_SAMPLES`] body-samples are kept (between that and twice
 //! it, and never more than 2 × [`MAX_FRAMES`] frames): frames are dropped evenly (every `2^k`-th
@@ -47,6 +55,8 @@ use tumble::trajectory::derived::{self, InvariantErrors};
 use tumble::trajectory::Trajectory;
 use tumble::{RigidBody, World};
 
+mod contacts;
+mod link_geometry;
 mod robots;
 
 /// The page, with its data marker.
@@ -81,8 +91,12 @@ pub fn view(args: &ViewArgs) -> Result<Status, Failure> {
     if let Some(note) = truncation_note(&trajectory) {
         let _ = writeln_stderr(&format!("warning: {}: {note}", args.trajectory.display()));
     }
-    let page = page(&trajectory, &scene.world, &scene.origin, &args.trajectory).map_err(Failure::bad_input)?;
-    write_output(&args.out, page.as_bytes())?;
+    let page = page(&trajectory, &scene.world, &scene.origin, &args.trajectory, args.contacts.as_deref())
+        .map_err(Failure::bad_input)?;
+    for warning in &page.warnings {
+        let _ = writeln_stderr(&format!("warning: {warning}"));
+    }
+    write_output(&args.out, page.html.as_bytes())?;
     Ok(Status::Success)
 }
 
@@ -106,15 +120,36 @@ pub fn frames_budget(world: &World, requested: Option<usize>) -> usize {
     requested.unwrap_or((MAX_BODY_SAMPLES / moving).clamp(2, MAX_FRAMES)).max(2)
 }
 
-/// The page for a trajectory of the scene `world` (from `origin`); `path` names the trajectory in
-/// the title and messages.
-pub fn page(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
-    let data = data(trajectory, world, origin, path)?;
-    Ok(TEMPLATE.replacen(DATA_MARKER, &data, 1))
+/// A replay: the page, and the warnings to print (meshes not drawn, a contacts file cut short).
+#[derive(Debug, Clone)]
+pub struct Page {
+    pub html: String,
+    pub warnings: Vec<String>,
 }
 
-/// The replay's data as JSON (the fields of the module doc).
-fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Result<String, String> {
+/// The page for a trajectory of the scene `world` (from `origin`), with the contacts file
+/// `contacts` drawn over it if given; `path` names the trajectory in the title and messages.
+pub fn page(
+    trajectory: &Trajectory,
+    world: &World,
+    origin: &str,
+    path: &Path,
+    contacts: Option<&Path>,
+) -> Result<Page, String> {
+    let mut warnings = Vec::new();
+    let data = data(trajectory, world, origin, path, contacts, &mut warnings)?;
+    Ok(Page { html: TEMPLATE.replacen(DATA_MARKER, &data, 1), warnings })
+}
+
+/// The replay's data as JSON (the fields of the module doc); warnings are pushed to `warnings`.
+fn data(
+    trajectory: &Trajectory,
+    world: &World,
+    origin: &str,
+    path: &Path,
+    contacts: Option<&Path>,
+    warnings: &mut Vec<String>,
+) -> Result<String, String> {
     let name = path.display().to_string();
     let invariants = derived::invariants(trajectory, world, &name, origin).map_err(|e| e.to_string())?;
     let errors = InvariantErrors::of(&invariants);
@@ -172,7 +207,8 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     }
     for robot in &world.robots {
         colour += 1;
-        robots::push_bodies(&mut out, &mut first, robot, PALETTE[(colour - 1) % PALETTE.len()], &trajectory.bodies);
+        let color = PALETTE[(colour - 1) % PALETTE.len()];
+        warnings.extend(robots::push_bodies(&mut out, &mut first, robot, color, &trajectory.bodies));
     }
     out.push_str("],");
 
@@ -202,7 +238,37 @@ fn data(trajectory: &Trajectory, world: &World, origin: &str, path: &Path) -> Re
     } + crate::plot::driven_note(world);
     let _ = write!(out, "\"energy\":{{\"label\":{},\"values\":[", json_string(&label));
     push_joined(&mut out, errors.energy.iter().copied());
-    out.push_str("]}}");
+    out.push_str("]},\"contacts\":");
+    match contacts {
+        None => out.push_str("null"),
+        Some(file) => {
+            let times: Vec<f64> = trajectory.frames.iter().map(|f| f.t).collect();
+            let (overlay, cut_short) = contacts::read(file, &times, world)?;
+            warnings.extend(cut_short);
+            let _ = write!(
+                out,
+                "{{\"source\":{},\"reference\":{},\"reference_of\":{},\"most\":{},\"stride\":{},\"frames\":[",
+                json_string(&file.display().to_string()),
+                num(overlay.reference),
+                json_string(overlay.reference_of),
+                overlay.most,
+                overlay.stride
+            );
+            for (k, frame) in overlay.frames.iter().enumerate() {
+                out.push_str(if k > 0 { "," } else { "" });
+                match frame {
+                    Some(frame) => {
+                        out.push('[');
+                        push_joined(&mut out, frame.iter().copied());
+                        out.push(']');
+                    }
+                    None => out.push_str("null"),
+                }
+            }
+            out.push_str("]}");
+        }
+    }
+    out.push('}');
     Ok(out)
 }
 

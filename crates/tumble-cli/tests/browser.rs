@@ -296,3 +296,47 @@ fn robot_replays_draw_and_move_their_links() {
     }
     assert_eq!(proxy.page_requests(), Vec::<String>::new(), "the replay made network requests");
 }
+
+/// A robot drawn from its URDF geometry (a mirrored STL cube and a cylinder) beside a ball resting
+/// on the floor, with `--contacts`: the page sets up, and the contact's dot and force arrow are
+/// drawn (the picture with the overlay differs from the one without it, `#contacts=0`).
+#[test]
+fn urdf_geometry_and_contacts_are_drawn() {
+    let Some(binary) = browser_binary() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tumble/tests/fixtures/meshes/cube.stl");
+    std::fs::copy(&fixture, dir.path().join("cube.stl")).unwrap();
+    let urdf = r#"<?xml version="1.0"?>
+<robot name="m">
+  <link name="base"><visual><geometry><cylinder radius="0.05" length="0.6"/></geometry></visual></link>
+  <link name="block">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+    <visual><geometry><mesh filename="cube.stl" scale="0.2 -0.2 0.2"/></geometry></visual>
+  </link>
+  <joint name="turn" type="revolute"><parent link="base"/><child link="block"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-10" upper="10" effort="10" velocity="5"/></joint>
+</robot>
+"#;
+    std::fs::write(dir.path().join("m.urdf"), urdf).unwrap();
+    let scene = "version = 1\n[world]\nduration = 1.0\n\n[[body]]\nname = \"floor\"\nfixed = true\n\
+                 shape = { type = \"plane\" }\n\n[[body]]\nname = \"ball\"\ndensity = 800.0\n\
+                 shape = { type = \"sphere\", radius = 0.1 }\nposition = [0.0, 0.0, 0.1]\n\n\
+                 [[robot]]\nname = \"r\"\nurdf = \"m.urdf\"\nbase = \"fixed\"\nposition = [0.6, 0.0, 0.3]\n\
+                 collision = false\nv = { turn = 2.0 }\n";
+    std::fs::write(dir.path().join("s.toml"), scene).unwrap();
+    let page = dir.path().join("g.html");
+    tumble(dir.path())
+        .args(["run", "s.toml", "--out", "g.csv", "--contacts", "c.jsonl", "--view", "g.html", "-q"])
+        .assert()
+        .success();
+    let proxy = Proxy::start();
+    assert_ready(&binary, dir.path(), &proxy, &page, "geometry-dom");
+    let with = screenshot(&binary, dir.path(), &proxy, &page, "t=0.9&axes=0&grid=0", "contacts-on.png");
+    let without = screenshot(&binary, dir.path(), &proxy, &page, "t=0.9&axes=0&grid=0&contacts=0", "contacts-off.png");
+    let drawn = middle(&without).filter(|&p| differs(p, BACKGROUND, 12)).count();
+    let overlay = middle(&with).zip(middle(&without)).filter(|&(a, b)| differs(a, b, 30)).count();
+    eprintln!("geometry and contacts: {drawn} pixels of bodies, {overlay} pixels of the contacts overlay");
+    assert!(drawn > 2_000, "the ball and the robot are drawn: {drawn} pixels");
+    assert!(overlay > 30, "the contact's dot and arrow are drawn: {overlay} pixels differ");
+    assert_eq!(proxy.page_requests(), Vec::<String>::new(), "the replay made network requests");
+}

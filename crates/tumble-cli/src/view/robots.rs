@@ -1,23 +1,28 @@
 //! Robots in the replay: every link of every robot is a body of the page.
 //!
-//! - **What a link is drawn as.** A link has no shape in the scene (URDF geometry is not read), so a
+//! - **What a link is drawn as.** Its URDF geometry when it has some that can be drawn
+//!   ([`link_geometry`](super::link_geometry)): its `<visual>` elements if all can be drawn, else its
+//!   `<collision>` elements, each at its `<origin>` in the link frame. Otherwise, from its mass: a
 //!   link with mass is drawn as its inertia-equivalent box ([`derived::inertia_equivalent_box`], as a
 //!   shapeless free body): the uniform box with the link's own mass and principal moments
 //!   ([`Frame::inertia`], the link as the URDF gave it, before fixed joints merge it into a body),
 //!   centred on the link's centre of mass and turned to its principal axes. A link without mass (a
 //!   tool or sensor frame such as the double pendulum's `tip`, or a massless root) is drawn as a
 //!   small sphere at its frame's origin, of the radius [`marker_radius`]: so are a point mass and an
-//!   inertia that is not one (no box matches it).
+//!   inertia that is not one (no box matches it). The body's `drawn` field says which:
+//!   `"visual"`, `"collision"`, `"inertia_box"` or `"marker"`.
 //! - **Where.** A moving link's trajectory row holds the pose of its link frame (origin and
-//!   `world_from_link`), not of its centre of mass: the page places the body at that pose and the box
-//!   at the centre of mass within it (the part's `position`, link frame). The links fixed to the
-//!   world (a fixed base and what is welded to it) have no row: they are fixed bodies of the page, at
-//!   their place in the world.
+//!   `world_from_link`), not of its centre of mass: the page places the body at that pose and the
+//!   parts within it (the part's `position`, link frame). The links fixed to the world (a fixed base
+//!   and what is welded to it) have no row: they are fixed bodies of the page, at their place in the
+//!   world.
 //! - **Colours.** A robot takes one colour of the palette; its moving links are shades of it in turn,
 //!   its fixed links a darker shade, its markers a lighter one.
 
+use super::link_geometry::{self, mesh_budget, LinkDrawing, LinkGeometries};
 use super::{json_string, numbers};
 use tumble::math::{quat_to_wxyz, DMat3, DQuat, DVec3};
+use tumble::multibody::model::GeometryRole;
 use tumble::multibody::{Frame, RigidInertia};
 use tumble::trajectory::derived;
 use tumble::world::Robot;
@@ -81,19 +86,26 @@ fn marker_radius(links: &[Drawn]) -> f64 {
 /// Appends the page's body entries for the links of `robot` to `out` (JSON objects, each preceded
 /// by a comma unless `*first`), in the colour `color`: its moving links first, in the order of its
 /// trajectory rows (`index` their place in `trajectory_bodies`), then its links fixed to the world.
+/// Returns the warning naming the meshes that could not be read, if any.
 pub(super) fn push_bodies(
     out: &mut String,
     first: &mut bool,
     robot: &Robot,
     color: [f32; 3],
     trajectory_bodies: &[String],
-) {
+) -> Option<String> {
     let moving = (0..robot.link_names().len()).map(|k| robot.link_frame(k));
     let fixed = robot.model.frames.iter().filter(|f| f.body.is_none());
     let frames: Vec<&Frame> = moving.chain(fixed).collect();
-    let drawings: Vec<Drawn> = frames.iter().map(|f| drawn(&f.inertia)).collect();
-    let radius = marker_radius(&drawings);
-    for (k, (frame, drawing)) in frames.iter().zip(&drawings).enumerate() {
+    // what each link is drawn as from its mass (the markers sized by the boxes), and from its URDF
+    // geometry if it has some that can be drawn (which then wins)
+    let from_mass: Vec<Drawn> = frames.iter().map(|f| drawn(&f.inertia)).collect();
+    let radius = marker_radius(&from_mass);
+    let mut geometries = LinkGeometries::default();
+    let from_urdf: Vec<Option<LinkDrawing>> =
+        frames.iter().map(|f| geometries.drawing(&robot.model, &f.name)).collect();
+    let budget = mesh_budget(from_urdf.iter().flatten());
+    for (k, ((frame, from_mass), from_urdf)) in frames.iter().zip(&from_mass).zip(&from_urdf).enumerate() {
         let is_moving = frame.body.is_some();
         let name = format!("{}/{}", robot.name, frame.name);
         let index = if is_moving { trajectory_bodies.iter().position(|n| n == &name) } else { None };
@@ -107,18 +119,31 @@ pub(super) fn push_bodies(
         };
         let shade = if is_moving { LINK_SHADES[k % LINK_SHADES.len()] } else { FIXED_SHADE };
         let mut rgb = color.map(|c| c * shade);
-        let part = match *drawing {
-            Drawn::Box { half_extents, center, link_from_box } => format!(
-                "{{\"geometry\":{{\"type\":\"box\",\"half_extents\":{}}},\"position\":{},\"orientation\":{}}}",
-                numbers(&half_extents.to_array()),
-                numbers(&center.to_array()),
-                numbers(&quat_to_wxyz(link_from_box))
+        let (parts, what) = match (from_urdf, *from_mass) {
+            (Some(urdf), _) => (
+                urdf.parts_json(budget),
+                match urdf.role {
+                    GeometryRole::Visual => "visual",
+                    GeometryRole::Collision => "collision",
+                },
             ),
-            Drawn::Marker => {
-                rgb = rgb.map(|c| c + (1.0 - c) * MARKER_LIGHTEN);
+            (None, Drawn::Box { half_extents, center, link_from_box }) => (
                 format!(
-                    "{{\"geometry\":{{\"type\":\"sphere\",\"radius\":{}}},\"position\":[0,0,0],\"orientation\":[1,0,0,0]}}",
-                    numbers(&[radius]).trim_matches(['[', ']'])
+                    "{{\"geometry\":{{\"type\":\"box\",\"half_extents\":{}}},\"position\":{},\"orientation\":{}}}",
+                    numbers(&half_extents.to_array()),
+                    numbers(&center.to_array()),
+                    numbers(&quat_to_wxyz(link_from_box))
+                ),
+                "inertia_box",
+            ),
+            (None, Drawn::Marker) => {
+                rgb = rgb.map(|c| c + (1.0 - c) * MARKER_LIGHTEN);
+                (
+                    format!(
+                        "{{\"geometry\":{{\"type\":\"sphere\",\"radius\":{}}},\"position\":[0,0,0],\"orientation\":[1,0,0,0]}}",
+                        super::num(radius)
+                    ),
+                    "marker",
                 )
             }
         };
@@ -130,17 +155,18 @@ pub(super) fn push_bodies(
         let _ = write!(
             out,
             "{{\"name\":{},\"robot\":{},\"color\":{},\"index\":{},\"position\":{},\"orientation\":{},\
-             \"inertia_box\":{},\"marker\":{},\"parts\":[{part}]}}",
+             \"drawn\":\"{what}\",\"inertia_box\":{},\"marker\":{},\"parts\":[{parts}]}}",
             json_string(&name),
             json_string(&robot.name),
             numbers(&rgb.map(f64::from)),
             index.map_or("null".into(), |i| i.to_string()),
             numbers(&position.to_array()),
             numbers(&quat_to_wxyz(orientation)),
-            matches!(drawing, Drawn::Box { .. }),
-            *drawing == Drawn::Marker,
+            what == "inertia_box",
+            what == "marker",
         );
     }
+    link_geometry::warning(&robot.name, &geometries.unreadable)
 }
 
 #[cfg(test)]
