@@ -243,10 +243,11 @@ impl LinkColliders {
                 if body.fixed && !moving {
                     continue;
                 }
-                if let Some(aabb) = aabb {
-                    if !aabb.intersects(&self.aabbs[l]) {
-                        continue;
-                    }
+                match aabb {
+                    Some(aabb) if !aabb.intersects(&self.aabbs[l]) => continue,
+                    // a plane: the link's swept box entirely above it cannot touch it
+                    None if above_plane(shape, &pose_i, &self.aabbs[l]) => continue,
+                    _ => {}
                 }
                 if self.excluded_bodies.binary_search(&(l, i)).is_ok() {
                     continue;
@@ -307,6 +308,15 @@ impl LinkColliders {
         }
         pairs
     }
+}
+
+/// Whether the box lies entirely on the outer side of the half-space `shape` placed at `pose`
+/// (`false` for any other shape): `n·(centre − p₀) − Σ |n_i| h_i > 0`, world frame.
+fn above_plane(shape: &SharedShape, pose: &Pose, aabb: &Aabb) -> bool {
+    let Some(plane) = shape.as_halfspace() else { return false };
+    let n = pose.rotation * plane.normal;
+    let (center, half) = (aabb.center(), aabb.half_extents());
+    n.dot(center - pose.translation) - n.abs().dot(half) > 0.0
 }
 
 /// parry's manifolds of one pair, written as contacts from side `a` to side `b`.
