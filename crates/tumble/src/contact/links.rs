@@ -56,6 +56,10 @@ use crate::multibody::{aba, crba, ltdl_factor, ContactChange, Control, Multibody
 use crate::world::Robot;
 use parry3d_f64::math::Pose;
 
+/// A limited coordinate within this distance (rad or m) of its limit, beyond what the step's
+/// velocity can cover, gets a limit row.
+pub const LIMIT_MARGIN: f64 = 1e-3;
+
 /// `ε` of the regularised collision matrix `K + ε tr(K) 1` of a collision involving a robot.
 pub const SINGULAR_EPSILON: f64 = 1e-12;
 
@@ -72,6 +76,8 @@ pub struct RobotView<'a> {
     pub v: &'a [f64],
     pub control: &'a Control,
     pub material: Material,
+    /// The joint position limits, when enforced.
+    pub limits: Option<&'a crate::multibody::JointLimitSolver>,
 }
 
 /// One side of a row.
@@ -113,6 +119,25 @@ struct Row {
     lambda: [f64; 3],
 }
 
+/// A joint-limit row of a robot the contact rows engage: `J = s e_iᵀ` in joint space (`s = +1` at a
+/// lower limit, `−1` at an upper one), one-sided, without friction; its response `W = M⁻¹ e_i s` in
+/// the arena. Solved in the same substeps as the contact rows, so that the two never fight.
+#[derive(Debug, Clone, Copy)]
+struct LimitRow {
+    robot: usize,
+    /// Index among the robot's limited coordinates (for the run report), and the velocity coordinate.
+    limited: usize,
+    dof: usize,
+    sign: f64,
+    /// Distance to the limit at the start of the step (rad or m; negative past it).
+    gap: f64,
+    /// `W` at `arena[off..off + nv]`.
+    off: usize,
+    normal_mass: f64,
+    softness: Softness,
+    lambda: f64,
+}
+
 /// A row of the previous step and its impulses (warm starting).
 #[derive(Debug, Clone, Copy)]
 struct Previous {
@@ -152,10 +177,13 @@ pub struct LinkStage {
     contacts: Vec<LinkContact>,
     impulses: Vec<DVec3>,
     rows: Vec<Row>,
+    limit_rows: Vec<LimitRow>,
     lambda_sums: Vec<[f64; 3]>,
     arena: Vec<f64>,
     robots: Vec<RobotSolve>,
     previous: Vec<Previous>,
+    /// The step (s).
+    dt: f64,
     /// Collisions resolved and kinetic energy they dissipated (J), since the start.
     pub impacts: u64,
     pub energy_lost: f64,
@@ -217,6 +245,7 @@ impl LinkStage {
         positions: &[DVec3],
         robots: &[Robot],
         settings: &ContactSettings,
+        dt: f64,
         soft: Softness,
         soft_fixed: Softness,
     ) {
@@ -224,6 +253,7 @@ impl LinkStage {
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
         self.rows.clear();
         self.arena.clear();
+        self.dt = dt;
         if self.robots.len() != robots.len() {
             self.robots = robots.iter().map(|r| RobotSolve::new(&r.model)).collect();
         }
@@ -253,6 +283,51 @@ impl LinkStage {
         }
         self.lambda_sums.clear();
         self.lambda_sums.resize(self.rows.len(), [0.0; 3]);
+        self.limit_rows(robots, settings, soft_fixed);
+    }
+
+    /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
+    /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row.
+    fn limit_rows(&mut self, robots: &[Robot], settings: &ContactSettings, soft: Softness) {
+        self.limit_rows.clear();
+        let _ = settings;
+        for (r, robot) in robots.iter().enumerate() {
+            if !self.robots[r].engaged {
+                continue;
+            }
+            let view = robot.contact_view();
+            let Some(limits) = view.limits else { continue };
+            let nv = self.robots[r].nv;
+            for (k, (qi, vi, lower, upper)) in limits.bounds().enumerate() {
+                let (q, v) = (view.q[qi], self.robots[r].v[vi]);
+                for (sign, gap) in [(1.0, q - lower), (-1.0, upper - q)] {
+                    if gap > v.abs() * self.dt + LIMIT_MARGIN {
+                        continue;
+                    }
+                    // W = M⁻¹ s e_i
+                    let off = self.arena.len();
+                    self.arena.resize(off + nv, 0.0);
+                    let w = &mut self.arena[off..off + nv];
+                    w[vi] = sign;
+                    if crate::multibody::ltdl_solve(view.model, &self.robots[r].ws, w).is_err() {
+                        self.arena.truncate(off);
+                        continue;
+                    }
+                    let k_ii = sign * self.arena[off + vi];
+                    self.limit_rows.push(LimitRow {
+                        robot: r,
+                        limited: k,
+                        dof: vi,
+                        sign,
+                        gap,
+                        off,
+                        normal_mass: if k_ii > 0.0 { 1.0 / k_ii } else { 0.0 },
+                        softness: soft,
+                        lambda: 0.0,
+                    });
+                }
+            }
+        }
     }
 
     /// The row side of a contact side: a robot link's Jacobian and response go into the arena (its
@@ -492,6 +567,53 @@ impl LinkStage {
         }
     }
 
+    /// One pass over the joint-limit rows (the normal part of [`Self::solve`], in joint space).
+    pub(super) fn solve_limits(&mut self, sweep: &Sweep) {
+        for row in self.limit_rows.iter_mut() {
+            let solve = &mut self.robots[row.robot];
+            let u = row.sign * solve.v[row.dof];
+            let s = row.gap + row.sign * solve.d[row.dof];
+            let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+                (s * sweep.inv_h, 1.0, 0.0)
+            } else if sweep.pass == Pass::Solve {
+                let k = row.softness;
+                ((k.bias_rate * s).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let new = (row.lambda - row.normal_mass * mass_scale * (u + bias) - impulse_scale * row.lambda).max(0.0);
+            let d = new - row.lambda;
+            row.lambda = new;
+            if d != 0.0 {
+                let nv = solve.nv;
+                for (v, w) in solve.v.iter_mut().zip(&self.arena[row.off..row.off + nv]) {
+                    *v += d * w;
+                }
+            }
+            if new != 0.0 {
+                solve.touched = true;
+            }
+        }
+    }
+
+    /// Applies the limit rows' accumulated impulses (warm start within the step).
+    pub(super) fn warm_start_limits(&mut self) {
+        for row in &self.limit_rows {
+            if row.lambda != 0.0 {
+                let solve = &mut self.robots[row.robot];
+                let nv = solve.nv;
+                for (v, w) in solve.v.iter_mut().zip(&self.arena[row.off..row.off + nv]) {
+                    *v += row.lambda * w;
+                }
+            }
+        }
+    }
+
+    /// The limited coordinates whose limit pushed in this step's solve, per robot: `(robot, k)`.
+    pub fn limits_pushed(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.limit_rows.iter().filter(|r| r.lambda != 0.0).map(|r| (r.robot, r.limited))
+    }
+
     /// End of a substep: adds each row's accumulated impulses to its sum.
     pub(super) fn accumulate(&mut self) {
         for (sum, row) in self.lambda_sums.iter_mut().zip(&self.rows) {
@@ -571,6 +693,7 @@ impl LinkStage {
         self.contacts.clear();
         self.impulses.clear();
         self.rows.clear();
+        self.limit_rows.clear();
         self.previous.clear();
         for r in &mut self.robots {
             r.engaged = false;

@@ -263,7 +263,7 @@ impl ContactStage {
         self.impacts(bodies, settings, dt, lead);
         let (soft, soft_fixed) = softness(settings, dt);
         if !self.links.is_empty() {
-            self.links.prepare(bodies, &self.bodies, &self.positions, robots, settings, soft, soft_fixed);
+            self.links.prepare(bodies, &self.bodies, &self.positions, robots, settings, dt, soft, soft_fixed);
             if self.links.impacts(&mut self.bodies, settings, dt) {
                 self.store_velocities(bodies);
             }
@@ -401,6 +401,7 @@ impl ContactStage {
             }
             if with_links {
                 links.warm_start(&mut self.bodies);
+                links.warm_start_limits();
             }
             let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
                 let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
@@ -410,6 +411,7 @@ impl ContactStage {
                     }
                     if with_links {
                         links.solve(bodies, &sweep);
+                        links.solve_limits(&sweep);
                     }
                 }
             };

@@ -178,6 +178,19 @@ impl JointLimitSolver {
         self.limited.iter().map(|l| l.v_index)
     }
 
+    /// Each limited coordinate: `(q_index, v_index, lower, upper)`.
+    pub fn bounds(&self) -> impl Iterator<Item = (usize, usize, f64, f64)> + '_ {
+        self.limited.iter().map(|l| (l.q_index, l.v_index, l.lower, l.upper))
+    }
+
+    /// Counts a step in which the limit of the `k`-th limited coordinate pushed (from a solve made
+    /// elsewhere: the contact solver's, for a robot held by resting contact).
+    pub fn note_active(&mut self, k: usize) {
+        if let Some(count) = self.active_steps.get_mut(k) {
+            *count += 1;
+        }
+    }
+
     /// For each limited coordinate, the number of steps in which its limit pushed.
     pub fn active_steps(&self) -> &[u64] {
         &self.active_steps

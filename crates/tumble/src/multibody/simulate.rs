@@ -142,7 +142,8 @@ pub enum ContactChange<'a> {
     /// Resting contact held the tree: the contact's generalized force over the step (nv),
     /// `τ_c = Jᵀ Λ / dt`, which the integrator adds to the joint forces, and the configuration (nq)
     /// where the contact solver's substeps put the tree at the end of the step, which replaces the
-    /// integrator's (it holds the overlap correction).
+    /// integrator's (it holds the overlap correction). The contact solver solved the joint limits
+    /// with the contacts: the limits' own phases are skipped.
     Held { q: &'a [f64], tau: &'a [f64] },
 }
 
@@ -215,6 +216,11 @@ impl Simulator {
         self.limits.as_ref()
     }
 
+    /// The joint-limit solver, mutable (to count the activity of limits solved elsewhere).
+    pub fn joint_limits_mut(&mut self) -> Option<&mut JointLimitSolver> {
+        self.limits.as_mut()
+    }
+
     /// Per velocity coordinate: whether its commanded force was clamped to its effort limit during
     /// the last step (at any stage of it).
     pub fn clamped(&self) -> &[bool] {
@@ -267,7 +273,9 @@ impl Simulator {
                 self.contact_force = true;
             }
         }
-        if let Some(limits) = &mut self.limits {
+        // a tree held by resting contact had its limits solved with its contacts
+        let held = matches!(contact, Some(ContactChange::Held { .. }));
+        if let Some(limits) = self.limits.as_mut().filter(|_| !held) {
             // phase 1: the speculative, inelastic impulse at (q₀, v₀)
             limits.begin_step(&self.q);
             limits.apply(model, &mut self.ws, Phase::Impact, dt, &mut self.q, &mut self.v);
@@ -303,7 +311,7 @@ impl Simulator {
             normalize_quaternions(model, &mut self.q);
             self.contact_force = false;
         }
-        if let Some(limits) = &mut self.limits {
+        if let Some(limits) = self.limits.as_mut().filter(|_| !held) {
             // phase 2: the constraint force over the step, Δq = c h Δv (c = ½ for RK4, 1 for
             // semi-implicit Euler); explicit Euler's q cannot move, its v meets phase 1's condition
             // (then the velocity condition of phase 1 at the end state removes what is left of the

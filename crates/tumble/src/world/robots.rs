@@ -173,6 +173,7 @@ impl Robot {
             v: &self.sim.v,
             control: &self.control,
             material: self.material,
+            limits: self.sim.joint_limits(),
         }
     }
 
@@ -348,6 +349,11 @@ impl World {
     pub(super) fn step_robots(&mut self) -> Result<(), Diverged> {
         let method = robot_method(self.config.integrator);
         let (dt, gravity) = (self.config.dt, self.config.gravity);
+        for (r, k) in self.contact.links.limits_pushed() {
+            if let Some(limits) = self.robots[r].sim.joint_limits_mut() {
+                limits.note_active(k);
+            }
+        }
         for r in 0..self.robots.len() {
             let contact = self.contact.links.robot_change(r);
             if let Err(quantity) = self.robots[r].step(method, dt, gravity, contact) {
