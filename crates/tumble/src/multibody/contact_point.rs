@@ -67,12 +67,7 @@ pub fn point_jacobian(
 
 /// Fills `w` (three columns of nv) with `W = M⁻¹ J_cᵀ`, the joint velocity change per unit impulse
 /// along each world axis, from the `LᵀDL` factors in `ws.ltdl` ([`ltdl_factor`](super::ltdl::ltdl_factor)).
-pub fn impulse_response(
-    model: &MultibodyModel,
-    ws: &Workspace,
-    jac: &[f64],
-    w: &mut [f64],
-) -> Result<(), LengthError> {
+pub fn impulse_response(model: &MultibodyModel, ws: &Workspace, jac: &[f64], w: &mut [f64]) -> Result<(), LengthError> {
     let nv = model.nv();
     check_len("point jacobian (3 nv)", jac.len(), 3 * nv)?;
     check_len("impulse response (3 nv)", w.len(), 3 * nv)?;

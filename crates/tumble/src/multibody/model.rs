@@ -438,6 +438,14 @@ impl ModelBuilder {
                 return Err(ModelError::MasslessSubtree { joint: b.joint.name.clone(), body: b.name.clone() });
             }
         }
+        self.build_allowing_massless()
+    }
+
+    /// Builds the model without checking that every moving subtree has mass: its mass matrix is
+    /// singular where one has none. For a model that [`reduced_model`](super::reduce::reduced_model)
+    /// then makes regular by locking those joints (the reduced model is checked).
+    pub fn build_allowing_massless(self) -> Result<MultibodyModel, ModelError> {
+        let n = self.bodies.len();
         let mut subspace = Vec::with_capacity(self.nv);
         let mut dof_body = Vec::with_capacity(self.nv);
         let mut dof_parent = Vec::with_capacity(self.nv);

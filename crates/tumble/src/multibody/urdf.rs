@@ -139,6 +139,10 @@ pub enum Massless {
     /// The joint is made fixed at `q = 0`, with one warning per joint: the subtree has no mass, so
     /// the other joints' dynamics are unchanged; only its own motion is lost.
     Fuse,
+    /// The model is built as it is (its mass matrix singular in those rows), for a model whose
+    /// massless joints [`reduced_model`](super::reduce::reduced_model) then locks: the reduced model
+    /// is checked.
+    Allow,
 }
 
 /// The order in which the depth-first numbering visits a link's children.
@@ -469,7 +473,9 @@ impl<'a, 'input> Parser<'a, 'input> {
         for g in geometries {
             builder.add_geometry(g);
         }
-        builder.build().map_err(|e| {
+        let built =
+            if options.massless == Massless::Allow { builder.build_allowing_massless() } else { builder.build() };
+        built.map_err(|e| {
             let node = match &e {
                 ModelError::MasslessSubtree { joint, .. } => {
                     joint_index.get(joint.as_str()).map(|&j| joints[j].node).unwrap_or(root)
