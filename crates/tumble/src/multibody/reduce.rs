@@ -37,6 +37,13 @@ pub enum LockError {
     Twice { joint: String },
     #[error("q has {got} entries, the full model {expected}")]
     Length { got: usize, expected: usize },
+    #[error(
+        "{} `{}` move{} no mass once reduced: the mass matrix would be singular",
+        if joints.len() == 1 { "joint" } else { "joints" },
+        joints.join("`, `"),
+        if joints.len() == 1 { "s" } else { "" }
+    )]
+    Massless { joints: Vec<String> },
     #[error("{0}")]
     Model(ModelError),
 }
@@ -46,7 +53,7 @@ pub enum LockError {
 /// moves with. The kept joints keep their order, names, kinds and limits.
 ///
 /// Errors: an unknown name, the floating base, a name given twice, `q_full` of the wrong length, and
-/// (from [`ModelBuilder::build`]) a kept joint that still moves no mass.
+/// kept joints that still move no mass (all of them named).
 pub fn reduced_model(model: &MultibodyModel, locked: &[&str], q_full: &[f64]) -> Result<MultibodyModel, LockError> {
     if q_full.len() != model.nq() {
         return Err(LockError::Length { got: q_full.len(), expected: model.nq() });
@@ -99,8 +106,17 @@ pub fn reduced_model(model: &MultibodyModel, locked: &[&str], q_full: &[f64]) ->
     for g in &model.geometries {
         builder.add_geometry(g.clone());
     }
-    let mut reduced = builder.build().map_err(LockError::Model)?;
+    let mut reduced = builder.build_allowing_massless().map_err(LockError::Model)?;
+    let massless = reduced.massless_joints();
+    if !massless.is_empty() {
+        return Err(LockError::Massless { joints: massless.iter().map(|j| j.to_string()).collect() });
+    }
     reduced.gravity = model.gravity;
+    reduced.locked = model.locked.clone();
+    for body in model.bodies.iter().enumerate().filter(|(i, _)| is_locked[*i]).map(|(_, b)| b) {
+        let j = &body.joint;
+        reduced.locked.push((j.name.clone(), q_full[j.q_index..j.q_index + j.kind.nq()].to_vec()));
+    }
     // the frames in the full model's order, each on its owner
     reduced.frames = model.frames.iter().map(|f| reduced_frame(model, f, &owner, &is_locked)).collect();
     Ok(reduced)
