@@ -2,7 +2,8 @@
 //! at rest, the reduced mass matrix is the full one's sub-matrix of the kept coordinates (CRBA of
 //! the full model), the reduced bias forces are the kept rows of the full ones, every link sits at
 //! the same place, and the kinetic energy and mass agree. On random trees (fixed and floating bases,
-//! spherical joints locked too) and on the Panda.
+//! spherical joints locked too) and on the Panda; and against Pinocchio's `buildReducedModel` on the
+//! Panda, Solo-12 and Talos (fixture `reduced.json` by `tools/pinocchio_reduced.py`).
 
 mod multibody_common;
 
@@ -173,5 +174,81 @@ fn lock_errors_name_the_joint() {
     assert_eq!(
         reduced_model(&floating, &["root_joint"], &q).unwrap_err(),
         LockError::FloatingBase { joint: "root_joint".into() }
+    );
+}
+
+/// Relative tolerance against Pinocchio (measured: below 1e-15 on every case).
+const PIN_TOL: f64 = 1e-12;
+
+fn numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+fn rows(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array().unwrap().iter().flat_map(|r| numbers(r)).collect()
+}
+
+fn max_relative(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs() / scale))
+}
+
+/// Pinocchio's `buildReducedModel` (fixture by `tools/pinocchio_reduced.py`): the same joints in the
+/// same order (tumble numbering by joint name, as Pinocchio), the same mass matrix, bias forces and
+/// link placements on random states of the reduced model.
+#[test]
+fn reduced_models_agree_with_pinocchio_build_reduced_model() {
+    use tumble::multibody::ChildOrder;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots");
+    let text = std::fs::read_to_string(dir.join("reduced.json")).unwrap();
+    let fixture: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut worst = [0.0_f64; 3];
+    for case in fixture["cases"].as_array().unwrap() {
+        let floating = case["floating"].as_bool().unwrap();
+        let options = UrdfOptions { floating, order: ChildOrder::JointName, ..Default::default() };
+        let full = load_urdf(&dir.join(case["urdf"].as_str().unwrap()), options).unwrap();
+        let locked: Vec<&str> = case["locked"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+        let what = format!("{} locked {locked:?}", case["robot"]);
+        let reduced = reduced_model(&full, &locked, &numbers(&case["q_ref"])).unwrap();
+        let names: Vec<&str> = reduced.bodies.iter().map(|b| b.joint.name.as_str()).collect();
+        let want: Vec<&str> = case["joints"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+        assert_eq!(names, want, "{what}: joints");
+        let layout = (case["nq"].as_u64().unwrap() as usize, case["nv"].as_u64().unwrap() as usize);
+        assert_eq!((reduced.nq(), reduced.nv()), layout, "{what}: nq, nv");
+        let mut ws = Workspace::new(&reduced);
+        for state in case["states"].as_array().unwrap() {
+            let (q, v) = (numbers(&state["q"]), numbers(&state["v"]));
+            let m: Vec<f64> = crba(&reduced, &mut ws, &q).unwrap().transpose().iter().copied().collect();
+            let m_pin = rows(&state["mass_matrix"]);
+            assert_close(&format!("{what}: mass matrix"), &m, &m_pin, PIN_TOL);
+            worst[0] = worst[0].max(max_relative(&m, &m_pin));
+            let mut bias = vec![0.0; reduced.nv()];
+            bias_forces(&reduced, &mut ws, &q, &v, &mut bias).unwrap();
+            let bias_pin = numbers(&state["bias"]);
+            assert_close(&format!("{what}: bias forces"), &bias, &bias_pin, PIN_TOL);
+            worst[1] = worst[1].max(max_relative(&bias, &bias_pin));
+            update_placements(&reduced, &mut ws, &q).unwrap();
+            let frames = state["frames"].as_object().unwrap();
+            let mut checked = 0;
+            for (name, placement) in frames {
+                // Pinocchio's BODY frames are the links; tumble keeps each link as a frame
+                let Some(f) = reduced.frame_index(name) else { continue };
+                let x = frame_x_world(&reduced, &ws, f);
+                // world_from_link = Eᵀ, row by row; the origin is r
+                let mut got: Vec<f64> = x.e.to_cols_array().to_vec();
+                got.extend(x.r.to_array());
+                let mut want = rows(&placement["rotation"]);
+                want.extend(numbers(&placement["origin"]));
+                assert_close(&format!("{what}: link {name}"), &got, &want, PIN_TOL);
+                worst[2] = worst[2].max(max_relative(&got, &want));
+                checked += 1;
+            }
+            assert_eq!(checked, full.frames.len(), "{what}: every link checked");
+        }
+    }
+    eprintln!(
+        "reduced models against Pinocchio's buildReducedModel: largest relative differences: mass matrix {:e}, bias \
+         {:e}, link placements {:e}",
+        worst[0], worst[1], worst[2]
     );
 }

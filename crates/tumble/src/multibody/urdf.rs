@@ -117,8 +117,8 @@ pub enum UrdfErrorKind {
 }
 
 /// Options of [`load_urdf`] and [`parse_urdf`].
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct UrdfOptions {
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UrdfOptions<'a> {
     /// Connect the root link to the world by a floating joint (a free-flyer base).
     pub floating: bool,
     /// The order of a link's children in the depth-first joint numbering.
@@ -131,7 +131,7 @@ pub struct UrdfOptions {
     pub massless: Massless,
     /// Directories that hold packages: `package://NAME/REST` is looked for as `DIR/NAME/REST` in
     /// each, after the URDF's parent directories (see [`resolve_mesh_in`]).
-    pub package_paths: Vec<PathBuf>,
+    pub package_paths: &'a [PathBuf],
 }
 
 /// What to do with a movable joint whose subtree has no mass (its row of the mass matrix is zero).
@@ -161,7 +161,7 @@ pub enum ChildOrder {
 }
 
 /// Reads and parses a URDF file.
-pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+pub fn load_urdf(path: &Path, options: UrdfOptions<'_>) -> Result<MultibodyModel, UrdfError> {
     let file = path.display().to_string();
     let whole_file =
         |kind| UrdfError { file: file.clone(), line: 0, column: 0, element: "robot".into(), kind: Box::new(kind) };
@@ -174,7 +174,7 @@ pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, Ur
 }
 
 /// Parses URDF text; `file` names it in errors.
-pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions<'_>) -> Result<MultibodyModel, UrdfError> {
     let doc = Document::parse(text).map_err(|e| {
         let pos = e.pos();
         UrdfError {
@@ -191,7 +191,7 @@ pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<Multib
 struct Parser<'a, 'input> {
     doc: &'a Document<'input>,
     file: &'a str,
-    options: UrdfOptions,
+    options: UrdfOptions<'a>,
 }
 
 /// A link as read.
@@ -283,7 +283,7 @@ impl<'a, 'input> Parser<'a, 'input> {
     }
 
     fn robot(&self) -> Result<MultibodyModel, UrdfError> {
-        let options = &self.options;
+        let options = self.options;
         let root = self.doc.root_element();
         if root.tag_name().name() != "robot" {
             return Err(self.error(root, UrdfErrorKind::NotRobot(root.tag_name().name().into())));
@@ -547,7 +547,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         // a negative factor mirrors the mesh (left and right parts share one file)
                         Ok(scale) if scale.is_finite() && scale.abs().min_element() > 0.0 => {
                             let mesh_line = self.line(shape_node);
-                            let path = match resolve_mesh_in(Path::new(self.file), uri, &self.options.package_paths) {
+                            let path = match resolve_mesh_in(Path::new(self.file), uri, self.options.package_paths) {
                                 Ok(path) => Some(path),
                                 Err(why) => {
                                     warnings.push(format!(

@@ -217,13 +217,19 @@ impl RobotReader<'_, '_> {
         // with `lock`, massless joints are allowed until the model is reduced (then checked)
         let massless = if doc.lock.is_some() { Massless::Allow } else { Massless::Error };
         let package_paths = self.package_paths(doc, scene_dir)?;
-        let options = UrdfOptions { floating, balance_inertia, massless, package_paths, ..UrdfOptions::default() };
-        let model = load_urdf(&path, options.clone()).map_err(|e| {
+        let options = UrdfOptions {
+            floating,
+            balance_inertia,
+            massless,
+            package_paths: &package_paths,
+            ..UrdfOptions::default()
+        };
+        let model = load_urdf(&path, options).map_err(|e| {
             let error = self.err("urdf", urdf, e.to_string());
             match &*e.kind {
                 UrdfErrorKind::Model(ModelError::MasslessSubtree { .. }) => {
                     // every joint that moves no mass, from the model built without the check
-                    let allowed = UrdfOptions { massless: Massless::Allow, ..options.clone() };
+                    let allowed = UrdfOptions { massless: Massless::Allow, ..options };
                     let joints = load_urdf(&path, allowed).map(|m| quoted(&m.massless_joints())).unwrap_or_default();
                     error.hint(format!(
                         "a joint that moves no mass cannot be simulated: hold them with `lock = [{joints}]`"
