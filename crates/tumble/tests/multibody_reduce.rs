@@ -211,7 +211,7 @@ fn numbers(v: &serde_json::Value) -> Vec<f64> {
 }
 
 fn rows(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().flat_map(|r| numbers(r)).collect()
+    v.as_array().unwrap().iter().flat_map(numbers).collect()
 }
 
 fn max_relative(a: &[f64], b: &[f64]) -> f64 {

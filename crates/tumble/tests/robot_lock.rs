@@ -294,3 +294,33 @@ fn json_scenes_take_lock_and_package_paths() {
     // everything is fixed to the world: no link moves
     assert!(robot.link_names().is_empty());
 }
+
+/// A joint that hangs from a placed fixed base, locked: its link joins the world (no longer a
+/// trajectory row) and every other link starts where the unlocked Panda puts it.
+#[test]
+fn a_locked_first_joint_joins_the_placed_base() {
+    let base = "position = [0.3, -0.2, 0.5]\norientation = [0.8, 0.0, 0.6, 0.0]\n";
+    let (_d1, locked) = panda_scene(&format!("{base}q = {{ panda_joint1 = 0.7 }}\nlock = [\"panda_joint1\"]"));
+    let (_d2, full) = panda_scene(&format!("{base}q = {{ panda_joint1 = 0.7 }}"));
+    let (locked, full) = (locked.unwrap(), full.unwrap());
+    let (a, b) = (&locked.world.robots[0], &full.world.robots[0]);
+    assert_eq!(a.model.nv(), 8);
+    let names_b: Vec<&String> = b.link_names().iter().filter(|n| *n != "panda/panda_link1").collect();
+    assert_eq!(a.link_names().iter().collect::<Vec<_>>(), names_b);
+    let mut worst = 0.0_f64;
+    for (k, name) in a.link_names().iter().enumerate() {
+        let kb = b.link_names().iter().position(|n| n == name).unwrap();
+        let (sa, sb) = (a.link_state(k), b.link_state(kb));
+        worst = worst.max((sa.position - sb.position).length()).max(1.0 - sa.orientation.dot(sb.orientation).abs());
+    }
+    assert!(worst < 1e-14, "links start {worst:e} apart");
+    // the locked link is fixed to the world, where the placed base and the locked angle put it
+    let frame = &a.model.frames[a.model.frame_index("panda_link1").unwrap()];
+    assert!(frame.body.is_none());
+    // its potential energy leaves the robot's (what is fixed to the world counts for nothing):
+    // E_full − E_locked = −m₁ g·c₁, c₁ its centre of mass in the world
+    let com_world = frame.x_from_body.inv_apply_point(frame.inertia.com());
+    let link1 = -frame.inertia.mass * a.model.gravity.dot(com_world);
+    let difference = b.energy() - a.energy();
+    assert!((difference - link1).abs() < 1e-12 * b.energy().abs().max(1.0), "{difference} against {link1} J");
+}
