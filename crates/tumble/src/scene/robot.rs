@@ -4,6 +4,12 @@
 //! Every joint name is checked against the model; an unknown one is an error that lists the valid
 //! names (and the nearest one). Values are checked like a body's: finite, in range, of the joint's
 //! length (`nq` for `q`, `nv` for `v` and `torque`).
+//!
+//! `lock`: `q` is read against the full model (a locked joint's entry is the value it is held at),
+//! then the model is reduced ([`reduced_model`]) and everything else (`v`, `torque`, `damping`,
+//! `pd`, the state, the outputs) speaks the reduced layout; naming a locked joint there is an error.
+//! `package_paths`: directories (relative to the scene) where `package://NAME/` is looked for after
+//! the URDF's parent directories ([`UrdfOptions::package_paths`]).
 
 use super::error::{nearest, num, nums, SceneError, Source};
 use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
