@@ -33,6 +33,7 @@ mod overlap;
 pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
 mod composite;
 mod hull;
+pub mod links;
 mod pairs;
 pub use pairs::{REUSE_FRACTION, REUSE_MARGIN};
 
@@ -237,6 +238,14 @@ impl Colliders {
     /// Whether the pair `(i, j)` is excluded from collision.
     pub fn is_excluded(&self, i: usize, j: usize) -> bool {
         !self.excluded.is_empty() && self.excluded.binary_search(&(i.min(j), i.max(j))).is_ok()
+    }
+
+    /// Body `i`'s parry shape, its pose in the world, its swept box (`None` for a plane) and its
+    /// sweep (m) as this step's broad phase made them; `None` for a body without a shape.
+    pub(crate) fn placed(&self, bodies: &[RigidBody], i: usize) -> Option<(&SharedShape, Pose, Option<&Aabb>, f64)> {
+        let shape = self.shapes.get(i)?.as_ref()?;
+        let aabb = if self.planes.contains(&i) { None } else { self.aabbs.get(i) };
+        Some((shape, self.pose(bodies, i), aabb, self.sweeps.get(i).copied().unwrap_or(0.0)))
     }
 
     /// The pose of body `i`'s parry shape in the world, `world_from_shape`.

@@ -67,6 +67,8 @@ pub struct Impact {
 const STEPS: f64 = 256.0;
 /// Largest number of integration steps in one impact (a guard against jamming).
 const MAX_STEPS: usize = 100_000;
+/// An impulse beyond this many times the frictionless one is a jam (see [`collide`]).
+const JAMMED: f64 = 1e6;
 
 /// The impulse of a collision with relative contact velocity `u_world` (m/s, world frame,
 /// approaching: `u·n < 0`), collision matrix `k_world` (1/kg, world frame), unit normal `n` (A → B),
@@ -85,7 +87,15 @@ pub fn collide(k_world: DMat3, n: DVec3, u_world: DVec3, mu: f64, e: f64, law: R
     }
     let u0 = frame.transpose() * u_world;
     let mut impact = Integration::new(k, u0, mu.max(0.0), e.clamp(0.0, 1.0), law);
-    let p_contact = impact.run();
+    let mut p_contact = impact.run();
+    // a collision matrix that is only positive semi-definite (a robot at a singular pose) can jam the
+    // frictional integration: the impulse then grows along a direction K does not see, without
+    // end. Its effect is then meaningless; the frictionless impact is always well posed
+    // (`p_z = (1 + e) p_c` at most, `p_c = −u_z/K_zz` the compression impulse)
+    let compression = -u0.z / k.z_axis.z;
+    if !p_contact.is_finite() || p_contact.length() > JAMMED * 2.0 * compression {
+        p_contact = Integration::new(k, u0, 0.0, e.clamp(0.0, 1.0), law).run();
+    }
     let mut p = frame * p_contact;
     // ΔT = u⁻·P + ½ PᵀKP: scale back if round-off (or Newton's / Poisson's law) would create energy
     let quad = p.dot(k_world * p);

@@ -32,6 +32,7 @@
 
 mod collisions;
 pub mod impact;
+pub mod links;
 pub mod solver;
 
 pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
@@ -142,6 +143,8 @@ pub struct ContactStage {
     gravity: DVec3,
     /// The previous step's contacts and their impulses, sorted by pair (warm starting).
     previous: Vec<Previous>,
+    /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
+    pub links: links::LinkStage,
     /// Energy dissipated so far.
     pub energy: ContactEnergy,
     /// Collisions resolved so far.
@@ -212,6 +215,7 @@ impl ContactStage {
     pub fn resolve(
         &mut self,
         bodies: &mut [RigidBody],
+        robots: &[crate::world::Robot],
         settings: &ContactSettings,
         gravity: DVec3,
         dt: f64,
@@ -225,9 +229,10 @@ impl ContactStage {
         self.energy_before.clear();
         self.energy_before.resize(bodies.len(), 0.0);
         self.gravity = gravity;
-        if !settings.enabled || bodies.is_empty() {
+        if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
             self.contacts.clear();
             self.impulses.clear();
+            self.links.clear();
             return;
         }
         let mut contacts = std::mem::take(&mut self.contacts);
@@ -244,15 +249,27 @@ impl ContactStage {
         self.contacts = contacts;
         self.impulses.clear();
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
-        if self.contacts.is_empty() {
+        if !self.links.colliders.is_empty() {
+            let colliders = self.colliders.as_ref().expect("built above");
+            self.links.detect(colliders, bodies, robots, dt, settings.slop);
+        }
+        if self.contacts.is_empty() && self.links.is_empty() {
             self.previous.clear();
+            self.links.clear();
             return;
         }
         let mut clock = crate::world::Clock::start(self.profile.is_some());
         self.load_bodies(bodies, gravity);
         self.impacts(bodies, settings, dt, lead);
+        let (soft, soft_fixed) = softness(settings, dt);
+        if !self.links.is_empty() {
+            self.links.prepare(bodies, &self.bodies, &self.positions, robots, settings, soft, soft_fixed);
+            if self.links.impacts(&mut self.bodies, settings, dt) {
+                self.store_velocities(bodies);
+            }
+        }
         let impacts = clock.lap();
-        self.resting(bodies, settings, gravity, dt);
+        self.resting(bodies, robots, settings, gravity, dt);
         if let Some(p) = &mut self.profile {
             p.impacts += impacts;
             p.resting += clock.lap();
@@ -310,16 +327,18 @@ impl ContactStage {
     }
 
     /// Stage 2: resting contact by soft sequential impulses in substeps (see [`solver`]).
-    fn resting(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+    fn resting(
+        &mut self,
+        bodies: &mut [RigidBody],
+        robots: &[crate::world::Robot],
+        settings: &ContactSettings,
+        gravity: DVec3,
+        dt: f64,
+    ) {
         let substeps = settings.substeps.max(1);
         let h = dt / substeps as f64;
         let inv_h = 1.0 / h;
-        // the spring of the position bias: twice as stiff against a fixed body, which has no give of
-        // its own (Box2D v3), and never stiffer than a quarter of the substep rate (ω h ≤ π/2; a
-        // ground spring at twice that rate set a ten-box tower wandering)
-        let cap = 0.25 * inv_h;
-        let soft = solver::Softness::new(settings.hertz.min(cap), settings.damping_ratio, h);
-        let soft_fixed = solver::Softness::new((2.0 * settings.hertz).min(cap), settings.damping_ratio, h);
+        let (soft, soft_fixed) = softness(settings, dt);
 
         // the velocities after the collisions
         self.predicted.clear();
@@ -344,14 +363,12 @@ impl ContactStage {
             }
             self.constraints.push(k);
         }
-        // the bodies the constraints move
+        // the bodies the constraints move, and those the robots' rows move
         self.active.clear();
-        for k in &self.constraints {
-            for i in [k.a, k.b] {
-                if !bodies[i].fixed && !self.in_active[i] {
-                    self.in_active[i] = true;
-                    self.active.push(i);
-                }
+        for i in self.constraints.iter().flat_map(|k| [k.a, k.b]).chain(self.links.bodies()) {
+            if !bodies[i].fixed && !self.in_active[i] {
+                self.in_active[i] = true;
+                self.active.push(i);
             }
         }
         // the soft step: per substep, forces, warm start, soft solve, move, relax
@@ -370,26 +387,43 @@ impl ContactStage {
         let constraints = &mut self.constraints;
         self.lambda_sums.clear();
         self.lambda_sums.resize(constraints.len(), [0.0; 3]);
+        let links = &mut self.links;
+        let with_links = !links.is_empty();
         for _ in 0..substeps {
             for &i in &self.active {
                 self.bodies[i].integrate_velocity(h);
             }
+            if with_links {
+                links.integrate_velocity(h);
+            }
             for &(s, e) in &self.groups {
                 solver::warm_start_pair(&constraints[s..e], &mut self.bodies);
             }
-            let mut sweep = |bodies: &mut [SolverBody], pass| {
+            if with_links {
+                links.warm_start(&mut self.bodies);
+            }
+            let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
                 let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
                 for _ in 0..settings.iterations {
                     for &(s, e) in &self.groups {
                         solver::solve_pair(&mut constraints[s..e], bodies, &sweep);
                     }
+                    if with_links {
+                        links.solve(bodies, &sweep);
+                    }
                 }
             };
-            sweep(&mut self.bodies, solver::Pass::Solve);
+            sweep(&mut self.bodies, links, solver::Pass::Solve);
             for &i in &self.active {
                 self.bodies[i].integrate_position(h);
             }
-            sweep(&mut self.bodies, solver::Pass::Relax);
+            if with_links {
+                links.integrate_position(h);
+            }
+            sweep(&mut self.bodies, links, solver::Pass::Relax);
+            if with_links {
+                links.accumulate();
+            }
             // the impulse a constraint applied in this substep is its accumulated λ (the warm start
             // applied the λ it started with, the sweeps the changes)
             for (sum, k) in self.lambda_sums.iter_mut().zip(constraints.iter()) {
@@ -400,6 +434,9 @@ impl ContactStage {
         }
         for ((p, sum), k) in self.impulses.iter_mut().zip(&self.lambda_sums).zip(constraints.iter()) {
             *p += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
+        }
+        if with_links {
+            links.finish(robots, dt);
         }
         self.previous.clear();
         for (c, k) in self.contacts.iter().zip(&self.constraints) {
@@ -440,6 +477,19 @@ impl ContactStage {
             self.held[i] = Some((b.state.position + sb.dx, (sb.dq * b.state.orientation).normalize()));
         }
     }
+}
+
+/// The softness of the resting contacts' position bias over a substep of `dt / substeps`: against a
+/// moving body, and twice as stiff against a fixed body, which has no give of its own (Box2D v3);
+/// never stiffer than a quarter of the substep rate (ω h ≤ π/2; a ground spring at twice that rate
+/// set a ten-box tower wandering).
+fn softness(settings: &ContactSettings, dt: f64) -> (solver::Softness, solver::Softness) {
+    let h = dt / settings.substeps.max(1) as f64;
+    let cap = 0.25 / h;
+    (
+        solver::Softness::new(settings.hertz.min(cap), settings.damping_ratio, h),
+        solver::Softness::new((2.0 * settings.hertz).min(cap), settings.damping_ratio, h),
+    )
 }
 
 /// Largest distance (m) between a contact point and the previous step's point of the same pair

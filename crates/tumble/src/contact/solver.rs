@@ -365,7 +365,7 @@ impl Constraint {
 /// The point of the disc `|λ| ≤ limit` nearest `λ* = (l1, l2)` in the metric of `K_tt = [k11 k12; k12 k22]`:
 /// `λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*` with `ν ≥ 0` the root of `1/|λ(ν)| = 1/limit` by Newton's method
 /// (Moré & Sorensen 1983).
-fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
+pub(super) fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
     let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
     let mut nu = 0.0;
     for _ in 0..8 {

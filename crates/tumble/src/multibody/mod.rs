@@ -17,6 +17,7 @@
 //! | [`crba`](mod@crba) | the mass matrix `M(q)`                                     | `O(n d)`        |
 //! | [`ltdl`]      | `M = Lᵀ D L` without fill-in, and solves                   | `O(n d²)`, `O(n d)` |
 //! | [`aba`](mod@aba)   | forward dynamics `q̈ = M⁻¹ (τ − C q̇ − g)`                 | `O(n)`          |
+//! | [`impulse_aba`] | `Δv = M⁻¹ J_cᵀ p` of an impulse at a link's point, its `K`, through ABA's `I^A` | `O(n)`, `K` `O(d)` |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
@@ -33,6 +34,7 @@ pub mod contact_point;
 pub mod crba;
 pub mod energy;
 pub mod fk;
+pub mod impulse_aba;
 pub mod jacobian;
 pub mod joint;
 pub mod limits;

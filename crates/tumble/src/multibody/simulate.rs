@@ -210,6 +210,21 @@ impl Simulator {
 
     /// Advances by `dt` seconds.
     pub fn step(&mut self, model: &MultibodyModel, control: &Control, method: Method, dt: f64) -> Result<(), AbaError> {
+        self.step_with_contact(model, control, method, dt, None)
+    }
+
+    /// Advances by `dt` seconds with the change of a contact solve (see
+    /// [`crate::contact::links`]): `Δv` (nv) added to `v` at the start of the step and, when
+    /// resting contact held the tree, the configuration (nq) it ends at, taken after the integrator
+    /// and before the joint limits' end-of-step phase.
+    pub fn step_with_contact(
+        &mut self,
+        model: &MultibodyModel,
+        control: &Control,
+        method: Method,
+        dt: f64,
+        contact: Option<(&[f64], Option<&[f64]>)>,
+    ) -> Result<(), AbaError> {
         control.check(model)?;
         // the simulator's own vectors were sized for a model: it must be this one
         check_len("q (simulator state)", self.q.len(), model.nq())?;
@@ -217,6 +232,12 @@ impl Simulator {
         check_len("q (the model the simulator was made for)", self.q_stage.len(), model.nq())?;
         check_len("v (the model the simulator was made for)", self.v_stage.len(), model.nv())?;
         self.clamped.fill(false);
+        if let Some((dv, _)) = contact {
+            check_len("contact velocity change", dv.len(), model.nv())?;
+            for (v, d) in self.v.iter_mut().zip(dv) {
+                *v += d;
+            }
+        }
         if let Some(limits) = &mut self.limits {
             // phase 1: the speculative, inelastic impulse at (q₀, v₀)
             limits.begin_step(&self.q);
@@ -244,6 +265,12 @@ impl Simulator {
                     *v += dt * a;
                 }
             }
+        }
+        if let Some((_, Some(q_end))) = contact {
+            // resting contact moved the tree in its substeps: it ends where they put it
+            check_len("contact end configuration", q_end.len(), model.nq())?;
+            self.q.copy_from_slice(q_end);
+            normalize_quaternions(model, &mut self.q);
         }
         if let Some(limits) = &mut self.limits {
             // phase 2: the constraint force over the step, Δq = c h Δv (c = ½ for RK4, 1 for

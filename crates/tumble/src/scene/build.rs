@@ -75,6 +75,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     }
     let mut world = World::new(config, bodies);
     world.robots = robots;
+    super::robot::robot_collisions(src, &doc.robot, &mut world, &mut warnings)?;
     collision_filters(src, &doc, &mut world)?;
     overlap_warnings(src, &doc, &mut world, &mut warnings);
     Ok(Scene { world, origin, warnings })
@@ -274,6 +275,12 @@ fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<
     for (i, entry) in doc.body.iter().enumerate() {
         let Some(list) = &entry.value.no_collide else { continue };
         for name in &list.value {
+            if let Some(links) = world.link_shapes_named(name) {
+                for l in links {
+                    world.contact_stage().links.colliders.exclude_body(l, i);
+                }
+                continue;
+            }
             let Some(j) = world.body_index(name) else {
                 let names: Vec<&str> = world.bodies.iter().map(|b| b.name.as_str()).collect();
                 let e = src

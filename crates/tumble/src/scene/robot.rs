@@ -139,7 +139,20 @@ impl RobotReader<'_, '_> {
         let mut robot =
             Robot::new(name, model, control, q, v).map_err(|e| self.src.error(self.span, self.path, e.to_string()))?;
         robot.set_joint_limits(joint_limits);
+        robot.material = self.material(doc)?;
         Ok(robot)
+    }
+
+    /// `friction` (≥ 0) and `restitution` ([0, 1]) of every link.
+    fn material(&self, doc: &RobotDoc) -> Result<crate::body::Material, SceneError> {
+        let ranged = |key: &str, loc: &Option<Loc<f64>>, ok: fn(f64) -> bool, problem: &str| match loc {
+            Some(l) if !l.value.is_finite() || !ok(l.value) => Err(self.err(key, l, problem).got(l.value.to_string())),
+            _ => Ok(loc.as_ref().map(|l| l.value)),
+        };
+        Ok(crate::body::Material {
+            friction: ranged("friction", &doc.friction, |f| f >= 0.0, "must be finite and ≥ 0")?,
+            restitution: ranged("restitution", &doc.restitution, |e| (0.0..=1.0).contains(&e), "must be in [0, 1]")?,
+        })
     }
 
     /// A warning for each joint that starts outside its position limits: the limit then stops it
@@ -578,6 +591,107 @@ impl RobotReader<'_, '_> {
 /// `"a", "b"`: names as a TOML array's items.
 fn quoted(names: &[&str]) -> String {
     names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+}
+
+/// The collision geometry of every robot whose `collision` is on (the default): its URDF
+/// `<collision>` shapes, self-collision when asked, and its `no_collide` pairs. A link is named
+/// `robot/link`; a body's `no_collide` may name one.
+pub(crate) fn robot_collisions(
+    src: &Source,
+    entries: &[Loc<Table<RobotDoc>>],
+    world: &mut crate::world::World,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
+    for (i, entry) in entries.iter().enumerate() {
+        let doc = &entry.value;
+        let path = format!("robot[{i}]");
+        if !doc.collision.as_ref().is_none_or(|b| b.value) {
+            for (key, given) in
+                [("self_collision", doc.self_collision.is_some()), ("no_collide", doc.no_collide.is_some())]
+            {
+                if given {
+                    warnings.push(src.warning(
+                        entry.span.as_ref(),
+                        &format!("{path}.{key}"),
+                        "has no effect: `collision = false` takes the robot out of all contact",
+                    ));
+                }
+            }
+            continue;
+        }
+        let Some(urdf) = &doc.urdf else { continue };
+        let file = Path::new(src.origin).parent().unwrap_or(Path::new("")).join(&urdf.value);
+        let shapes =
+            crate::multibody::link_shapes::collision_shapes(&world.robots[i].model, &file.display().to_string())
+                .map_err(|e| {
+                    src.error(urdf.span.as_ref(), format!("{path}.urdf"), e.to_string()).hint(
+                        "`collision = false` loads the robot without its collision geometry (it then touches nothing)",
+                    )
+                })?;
+        if shapes.is_empty() {
+            continue;
+        }
+        let ids = world.add_link_shapes(i, &shapes);
+        if doc.self_collision.as_ref().is_some_and(|b| b.value) {
+            for (a, b) in world.enable_self_collision(i) {
+                warnings.push(src.warning(
+                    doc.self_collision.as_ref().and_then(|l| l.span.as_ref()),
+                    &format!("{path}.self_collision"),
+                    &format!("`{a}` and `{b}` touch in the initial pose: that pair never collides"),
+                ));
+            }
+        }
+        let Some(list) = &doc.no_collide else { continue };
+        let robot_name = world.robots[i].name.clone();
+        let links_named = |world: &crate::world::World, link: &str| -> Vec<usize> {
+            let full = format!("{robot_name}/{link}");
+            ids.iter().copied().filter(|&l| world.contacts().links.colliders.links()[l].name == full).collect()
+        };
+        for group in &list.value {
+            let named: Result<Vec<Vec<usize>>, SceneError> = group
+                .iter()
+                .map(|link| {
+                    let found = links_named(world, link);
+                    if found.is_empty() {
+                        let model = &world.robots[i].model;
+                        let names: Vec<&str> = model.frames.iter().map(|f| f.name.as_str()).collect();
+                        let e = src
+                            .error(
+                                list.span.as_ref(),
+                                format!("{path}.no_collide"),
+                                "names no link with collision geometry",
+                            )
+                            .got(format!("\"{link}\""));
+                        Err(match nearest(link, &names) {
+                            Some(best) => e.hint(format!("did you mean `{best}`?")),
+                            None => e,
+                        })
+                    } else {
+                        Ok(found)
+                    }
+                })
+                .collect();
+            let named = named?;
+            let links = &mut world.contact_stage().links.colliders;
+            match named.as_slice() {
+                [one] => one.iter().for_each(|&l| links.disable(l)),
+                [a, b] => {
+                    for &l in a {
+                        for &m in b {
+                            links.exclude_links(l, m);
+                        }
+                    }
+                }
+                _ => {
+                    return Err(src
+                        .error(list.span.as_ref(), format!("{path}.no_collide"), "each entry is one or two link names")
+                        .got(format!("{group:?}"))
+                        .hint("e.g. `no_collide = [[\"base\", \"FL_UPPER_LEG\"], [\"camera\"]]`"))
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Places a fixed-base model at `world_from_base = (rotation, position)`: the joints that hang from

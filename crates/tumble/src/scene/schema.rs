@@ -320,6 +320,16 @@ pub struct RobotDoc {
     pub joint_limits: Option<Loc<bool>>,
     /// Clamp commanded joint forces (constant, PD, `set_torque`) to the URDF `effort` (default true).
     pub effort_limits: Option<Loc<bool>>,
+    /// Links collide through their URDF `<collision>` geometry (default true).
+    pub collision: Option<Loc<bool>>,
+    /// The robot's own links collide with each other too (default false).
+    pub self_collision: Option<Loc<bool>>,
+    /// Link pairs `["a", "b"]` that never collide; `["link"]` takes a link out of all contact.
+    pub no_collide: Option<Loc<Vec<Vec<String>>>>,
+    /// Coulomb friction of every link, ≥ 0 (else the world's default).
+    pub friction: Option<Loc<f64>>,
+    /// Restitution of every link, [0, 1] (else the world's default).
+    pub restitution: Option<Loc<f64>>,
 }
 
 /// `{ joint_name = value, ... }`, in the file's order (duplicate names are refused).

@@ -16,6 +16,7 @@
 
 use super::writer::{push_array, push_f64};
 use super::TrajectoryError;
+use crate::collision::links::Side;
 use crate::world::World;
 use std::io::{BufWriter, Write};
 
@@ -25,15 +26,18 @@ pub struct ContactWriter<W: Write> {
     sink: BufWriter<W>,
     /// Each body's name as a JSON string literal.
     names: Vec<String>,
+    /// Each link collider's name, `robot/link`, as a JSON string literal.
+    link_names: Vec<String>,
     line: Vec<u8>,
 }
 
 impl<W: Write> ContactWriter<W> {
     /// A writer for the bodies of `world`.
     pub fn new(sink: W, world: &World) -> Self {
-        let names =
-            world.bodies.iter().map(|b| serde_json::to_string(&b.name).expect("a string always serialises")).collect();
-        Self { sink: BufWriter::with_capacity(64 * 1024, sink), names, line: Vec::with_capacity(4096) }
+        let json = |name: &str| serde_json::to_string(name).expect("a string always serialises");
+        let names = world.bodies.iter().map(|b| json(&b.name)).collect();
+        let link_names = world.contacts().links.colliders.links().iter().map(|l| json(&l.name)).collect();
+        Self { sink: BufWriter::with_capacity(64 * 1024, sink), names, link_names, line: Vec::with_capacity(4096) }
     }
 
     /// Writes the active contacts of the world's last step at `world.time()`. A value that is not
@@ -52,25 +56,38 @@ impl<W: Write> ContactWriter<W> {
         }
         push_f64(line, t);
         line.extend_from_slice(b",\"contacts\":[");
-        for (k, (c, p)) in world.contacts().active().enumerate() {
+        let bodies = world
+            .contacts()
+            .active()
+            .map(|(c, p)| (&self.names[c.a], &self.names[c.b], c.point_world, c.normal_world, c.gap, p));
+        let side = |s: Side| match s {
+            Side::Body(i) => &self.names[i],
+            Side::Link(l) => &self.link_names[l],
+        };
+        let links = world
+            .contacts()
+            .links
+            .active()
+            .map(|(c, p)| (side(c.a), side(c.b), c.point_world, c.normal_world, c.gap, p));
+        for (k, (a, b, point, normal, gap, p)) in bodies.chain(links).enumerate() {
             let force = (p * inv_dt).to_array();
-            let (point, normal) = (c.point_world.to_array(), c.normal_world.to_array());
-            let values = point.iter().chain(&normal).chain(&force).chain(std::iter::once(&c.gap));
+            let (point, normal) = (point.to_array(), normal.to_array());
+            let values = point.iter().chain(&normal).chain(&force).chain(std::iter::once(&gap));
             if values.into_iter().any(|x| !x.is_finite()) {
-                let body = format!("{} against {}", world.bodies[c.a].name, world.bodies[c.b].name);
+                let body = format!("{a} against {b}");
                 return Err(TrajectoryError::NonFinite { body, quantity: "contact", time: t });
             }
             if k > 0 {
                 line.push(b',');
             }
             line.extend_from_slice(b"{\"a\":");
-            line.extend_from_slice(self.names[c.a].as_bytes());
+            line.extend_from_slice(a.as_bytes());
             line.extend_from_slice(b",\"b\":");
-            line.extend_from_slice(self.names[c.b].as_bytes());
+            line.extend_from_slice(b.as_bytes());
             push_array(line, b",\"point\":", &point);
             push_array(line, b",\"normal\":", &normal);
             line.extend_from_slice(b",\"depth\":");
-            push_f64(line, -c.gap);
+            push_f64(line, -gap);
             push_array(line, b",\"force\":", &force);
             line.push(b'}');
         }

@@ -216,7 +216,14 @@ impl World {
         self.save_states(contacts);
         if contacts {
             let lead = self.config.integrator.position_lead();
-            self.contact.resolve(&mut self.bodies, &self.config.contact, self.config.gravity, self.config.dt, lead);
+            self.contact.resolve(
+                &mut self.bodies,
+                &self.robots,
+                &self.config.contact,
+                self.config.gravity,
+                self.config.dt,
+                lead,
+            );
             self.note_first_contacts();
         }
         let contact_time = clock.lap();
@@ -242,9 +249,11 @@ impl World {
         Ok(())
     }
 
-    /// Whether the contact stage has anything to do: contacts enabled and a moving body with a shape.
+    /// Whether the contact stage has anything to do: contacts enabled and a moving body with a shape
+    /// or a robot link with one.
     fn contacts_possible(&self) -> bool {
-        self.config.contact.enabled && self.bodies.iter().any(|b| !b.fixed && b.shape.is_some())
+        self.config.contact.enabled
+            && (self.bodies.iter().any(|b| !b.fixed && b.shape.is_some()) || !self.contact.links.colliders.is_empty())
     }
 
     /// Sizes the per-body scratch; saves every state now unless the integration will (`now`).

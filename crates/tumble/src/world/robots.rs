@@ -45,6 +45,8 @@ pub struct Robot {
     pub control: Control,
     /// Whether the base is a free-flyer (`root_joint`).
     pub floating: bool,
+    /// Friction and restitution of every link (`None`: the world's defaults).
+    pub material: crate::body::Material,
     /// State `(q, v)` and the integrator's scratch.
     sim: Simulator,
     /// Forward kinematics of the current state.
@@ -109,6 +111,7 @@ impl Robot {
             name,
             control,
             floating,
+            material: crate::body::Material::default(),
             sim,
             view,
             q_before: q,
@@ -158,6 +161,19 @@ impl Robot {
             .map(|b| JointSteps { joint: b.joint.name.clone(), steps: steps_of(b.joint.v_index) })
             .filter(|c| c.steps > 0)
             .collect()
+    }
+
+    /// What the contact stage reads: model, forward kinematics of the current state, state, control
+    /// and material.
+    pub fn contact_view(&self) -> crate::contact::links::RobotView<'_> {
+        crate::contact::links::RobotView {
+            model: &self.model,
+            ws: &self.view,
+            q: &self.sim.q,
+            v: &self.sim.v,
+            control: &self.control,
+            material: self.material,
+        }
     }
 
     /// Configuration (nq): see `docs/multibody.md` for each joint's coordinates.
@@ -258,12 +274,20 @@ impl Robot {
 
     /// One step of `dt` seconds; on a non-finite or absurd state, the state is restored and the
     /// problem described (`joint `elbow`: v is not finite`).
-    fn step(&mut self, method: Method, dt: f64, gravity: DVec3) -> Result<(), String> {
+    /// `contact`: the velocity change of the step's contacts and, when resting contact held the
+    /// robot, its end configuration ([`crate::contact::links::LinkStage::robot_change`]).
+    fn step(
+        &mut self,
+        method: Method,
+        dt: f64,
+        gravity: DVec3,
+        contact: Option<(&[f64], Option<&[f64]>)>,
+    ) -> Result<(), String> {
         self.model.gravity = gravity;
         self.q_before.copy_from_slice(&self.sim.q);
         self.v_before.copy_from_slice(&self.sim.v);
         self.t_before = self.sim.t;
-        if let Err(e) = self.sim.step(&self.model, &self.control, method, dt) {
+        if let Err(e) = self.sim.step_with_contact(&self.model, &self.control, method, dt, contact) {
             self.undo();
             return Err(format!("the dynamics failed: {e}"));
         }
@@ -326,7 +350,8 @@ impl World {
         let method = robot_method(self.config.integrator);
         let (dt, gravity) = (self.config.dt, self.config.gravity);
         for r in 0..self.robots.len() {
-            if let Err(quantity) = self.robots[r].step(method, dt, gravity) {
+            let contact = self.contact.links.robot_change(r);
+            if let Err(quantity) = self.robots[r].step(method, dt, gravity, contact) {
                 for earlier in &mut self.robots[..r] {
                     earlier.undo();
                 }
@@ -339,6 +364,71 @@ impl World {
             }
         }
         Ok(())
+    }
+
+    /// Gives robot `robot`'s links their collision shapes (see
+    /// [`crate::multibody::link_shapes::collision_shapes`]); its links then collide with the bodies and
+    /// the other robots' links. Returns the indices of the new link colliders.
+    pub fn add_link_shapes(&mut self, robot: usize, shapes: &[crate::multibody::link_shapes::LinkShape]) -> Vec<usize> {
+        let name = &self.robots[robot].name;
+        let links = &mut self.contact.links.colliders;
+        shapes
+            .iter()
+            .map(|s| {
+                links.push(crate::collision::links::LinkCollider::new(
+                    robot,
+                    s.body,
+                    format!("{name}/{}", s.link),
+                    &s.shape,
+                    s.position_body,
+                    s.orientation_body,
+                ))
+            })
+            .collect()
+    }
+
+    /// Lets robot `robot`'s own links collide with each other, except parent and child, links fixed
+    /// to each other (one body), and pairs that touch or overlap in the current pose. Returns those
+    /// last pairs, `(robot/link, robot/link)`, which stay excluded.
+    pub fn enable_self_collision(&mut self, robot: usize) -> Vec<(String, String)> {
+        let model = &self.robots[robot].model;
+        let links = &mut self.contact.links.colliders;
+        links.set_self_collision(robot, true);
+        let mine: Vec<usize> = (0..links.links().len()).filter(|&l| links.links()[l].robot == robot).collect();
+        for (k, &l) in mine.iter().enumerate() {
+            for &m in &mine[k + 1..] {
+                let (a, b) = (links.links()[l].body, links.links()[m].body);
+                let parent = |x: Option<usize>| x.and_then(|i| model.bodies[i].parent);
+                if parent(a) == b || parent(b) == a {
+                    links.exclude_links(l, m);
+                }
+            }
+        }
+        let views: Vec<_> = self.robots.iter().map(|r| r.contact_view().ws.clone()).collect();
+        links.place(self.config.dt, 0.0, |r, b| {
+            let x = views[r].x_world[b];
+            crate::collision::links::BodyMotion {
+                pose: parry3d_f64::math::Pose::from_parts(x.r, DQuat::from_mat3(&x.rotation_a_from_b()).normalize()),
+                speed: 0.0,
+                angular_speed: 0.0,
+            }
+        });
+        let touching = links.touching_pairs(robot, 0.0);
+        let mut names = Vec::new();
+        for &(l, m) in &touching {
+            if links.pair_allowed(l, m) {
+                links.exclude_links(l, m);
+                names.push((links.links()[l].name.clone(), links.links()[m].name.clone()));
+            }
+        }
+        names
+    }
+
+    /// The link colliders named `robot/link`, if any.
+    pub fn link_shapes_named(&self, name: &str) -> Option<Vec<usize>> {
+        let links = self.contact.links.colliders.links();
+        let found: Vec<usize> = (0..links.len()).filter(|&l| links[l].name == name).collect();
+        (!found.is_empty()).then_some(found)
     }
 
     /// The index of the robot with this name.

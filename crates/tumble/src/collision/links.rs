@@ -1,0 +1,361 @@
+//! Collision detection for the links of robots: each link's URDF `<collision>` shapes against the
+//! bodies of the world (planes, boxes, meshes as terrain, free bodies), against the links of other
+//! robots, and — when the robot asks for it — against its own links.
+//!
+//! The link shapes move with their bodies: at each step their poses come from the robots' forward
+//! kinematics of the state at the start of the step (`world_from_shape = world_from_body ·
+//! body_from_shape`), and their sweeps from the bodies' spatial velocities, `(|v_o| + |ω| ρ) dt`
+//! (`v_o` the velocity of the body frame's origin, `ρ` the distance from it to the farthest point of
+//! the shape). A shape fixed to the world (a fixed base and what is fixed to it) does not sweep.
+//!
+//! Pairs: a link shape and a body are paired when the body's swept box (from the bodies' broad
+//! phase of the same step) meets the link's, or the body is a plane; two link shapes when their
+//! boxes meet, they move with different bodies, and the pair is allowed (different robots, or the
+//! same robot with `self_collision`, not parent and child, not touching in the initial pose, not
+//! excluded by `no_collide`). The cost is `O(L (B + L))` box tests for `L` link shapes and `B` bodies:
+//! robots have tens of shapes, not thousands.
+//!
+//! Narrow phase: parry's contact manifolds (`contact_manifolds`, any shape pair, with parry's
+//! workspace kept per pair from step to step), each point written as a [`LinkContact`] in the world
+//! frame: midpoint of the two surface points, unit normal from side `a` to side `b`, signed gap.
+//! A link is always side `b` against a body (the normal points from the body to the link, as the
+//! contact file writes it: `{"a": "ground", "b": "robot/foot"}`); of two links, the one listed first is
+//! side `a`.
+
+use super::{feature_key, Colliders, DUPLICATE_DISTANCE, PREDICTION_MARGIN};
+use crate::body::{RigidBody, Shape};
+use crate::math::{DQuat, DVec3};
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose;
+use parry3d_f64::query::{
+    ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
+};
+use parry3d_f64::shape::SharedShape;
+use std::collections::HashMap;
+
+/// One side of a contact: a body of the world, or a link shape (index into [`LinkColliders`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Side {
+    Body(usize),
+    Link(usize),
+}
+
+/// One contact point between a link shape and a body or another link shape, world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinkContact {
+    /// The first side (the normal points away from it).
+    pub a: Side,
+    /// The second side (always a link).
+    pub b: Side,
+    /// The contact point, midway between the two surfaces (m).
+    pub point_world: DVec3,
+    /// Unit normal from `a` towards `b`.
+    pub normal_world: DVec3,
+    /// Signed distance between the surfaces (m), negative when they overlap.
+    pub gap: f64,
+    /// The two touching features (for warm starting), as in [`super::Contact`].
+    pub features: (u64, u64),
+}
+
+/// One collision shape of a robot's link.
+#[derive(Clone)]
+pub struct LinkCollider {
+    /// The robot (index into the world's robots).
+    pub robot: usize,
+    /// The model body it moves with; `None`: fixed to the world.
+    pub body: Option<usize>,
+    /// `robot/link`, as written in the contact file.
+    pub name: String,
+    shape: SharedShape,
+    /// `body_from_shape` (parry's frame of the shape in the body frame).
+    body_from_shape: Pose,
+    /// Distance from the body frame's origin to the farthest point of the shape (m).
+    reach: f64,
+    /// Whether it collides at all (`no_collide = [["link"]]` takes a link out).
+    pub enabled: bool,
+}
+
+impl std::fmt::Debug for LinkCollider {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LinkCollider").field("name", &self.name).field("body", &self.body).finish()
+    }
+}
+
+impl LinkCollider {
+    /// A link shape of robot `robot` on model body `body` (`None`: fixed to the world), placed at
+    /// `position_body` with `body_from_shape` rotation `orientation_body` (tumble's shape axes).
+    pub fn new(
+        robot: usize,
+        body: Option<usize>,
+        name: String,
+        shape: &Shape,
+        position_body: DVec3,
+        orientation_body: DQuat,
+    ) -> Self {
+        let (parry, offset) = super::parry_shape(shape, false);
+        let body_from_shape = Pose::from_parts(position_body, orientation_body) * offset;
+        let reach = parry.compute_local_bounding_sphere().radius() + body_from_shape.translation.length();
+        Self { robot, body, name, shape: parry, body_from_shape, reach, enabled: true }
+    }
+}
+
+/// parry's manifolds and workspace of one pair, and the step it was last used.
+#[derive(Clone, Default)]
+struct PairCache {
+    manifolds: Vec<ContactManifold<(), ()>>,
+    workspace: Option<ContactManifoldsWorkspace>,
+    step: u64,
+}
+
+/// The pose and velocity of a robot body at the start of the step, world frame.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyMotion {
+    /// `world_from_body`.
+    pub pose: Pose,
+    /// Speed of the body frame's origin (m/s) and angular speed (rad/s).
+    pub speed: f64,
+    pub angular_speed: f64,
+}
+
+/// The link shapes of every robot and the buffers of their contact detection.
+#[derive(Clone, Default)]
+pub struct LinkColliders {
+    links: Vec<LinkCollider>,
+    /// Pairs of link shapes that never collide, `(min, max)`, sorted.
+    excluded_links: Vec<(usize, usize)>,
+    /// Pairs `(link, body)` that never collide, sorted.
+    excluded_bodies: Vec<(usize, usize)>,
+    /// Per robot: whether its own links collide.
+    self_collision: Vec<bool>,
+    poses: Vec<Pose>,
+    sweeps: Vec<f64>,
+    aabbs: Vec<Aabb>,
+    cache: HashMap<(Side, Side), PairCache>,
+    step: u64,
+}
+
+impl std::fmt::Debug for LinkColliders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LinkColliders").field("links", &self.links.len()).finish()
+    }
+}
+
+impl LinkColliders {
+    /// Adds a link shape; returns its index.
+    pub fn push(&mut self, link: LinkCollider) -> usize {
+        if self.self_collision.len() <= link.robot {
+            self.self_collision.resize(link.robot + 1, false);
+        }
+        self.links.push(link);
+        self.links.len() - 1
+    }
+
+    /// The link shapes.
+    pub fn links(&self) -> &[LinkCollider] {
+        &self.links
+    }
+
+    /// Whether there is any link shape.
+    pub fn is_empty(&self) -> bool {
+        self.links.is_empty()
+    }
+
+    /// Lets robot `robot`'s own links collide (or not).
+    pub fn set_self_collision(&mut self, robot: usize, on: bool) {
+        if self.self_collision.len() <= robot {
+            self.self_collision.resize(robot + 1, false);
+        }
+        self.self_collision[robot] = on;
+    }
+
+    /// Link shapes `i` and `j` never collide.
+    pub fn exclude_links(&mut self, i: usize, j: usize) {
+        let pair = (i.min(j), i.max(j));
+        if let Err(at) = self.excluded_links.binary_search(&pair) {
+            self.excluded_links.insert(at, pair);
+        }
+    }
+
+    /// Link shape `link` never collides with body `body`.
+    pub fn exclude_body(&mut self, link: usize, body: usize) {
+        if let Err(at) = self.excluded_bodies.binary_search(&(link, body)) {
+            self.excluded_bodies.insert(at, (link, body));
+        }
+    }
+
+    /// Takes link shape `link` out of all contact.
+    pub fn disable(&mut self, link: usize) {
+        self.links[link].enabled = false;
+    }
+
+    /// Whether links `i` and `j` may collide at all (the filter without the boxes).
+    pub fn pair_allowed(&self, i: usize, j: usize) -> bool {
+        let (a, b) = (&self.links[i], &self.links[j]);
+        if !a.enabled || !b.enabled || i == j {
+            return false;
+        }
+        if a.robot == b.robot && (!self.self_collision[a.robot] || a.body == b.body) {
+            return false;
+        }
+        if a.body.is_none() && b.body.is_none() {
+            return false;
+        }
+        self.excluded_links.binary_search(&(i.min(j), i.max(j))).is_err()
+    }
+
+    /// Places every link shape for a step of `dt` (s): `motion(robot, body)` gives a body's pose and
+    /// speeds (a shape fixed to the world is placed in the world frame already). `slop` (m) as in [`Colliders::find_contacts`]: the boxes grow by half of it or of
+    /// [`PREDICTION_MARGIN`], whichever is larger.
+    pub fn place(&mut self, dt: f64, slop: f64, mut motion: impl FnMut(usize, usize) -> BodyMotion) {
+        self.poses.clear();
+        self.sweeps.clear();
+        self.aabbs.clear();
+        let margin = slop.max(PREDICTION_MARGIN);
+        for link in &self.links {
+            let (world_from_body, sweep) = match link.body {
+                Some(b) => {
+                    let m = motion(link.robot, b);
+                    (m.pose, (m.speed + m.angular_speed * link.reach) * dt)
+                }
+                None => (Pose::IDENTITY, 0.0),
+            };
+            let pose = world_from_body * link.body_from_shape;
+            self.poses.push(pose);
+            self.sweeps.push(sweep + 0.5 * margin);
+            self.aabbs.push(link.shape.compute_aabb(&pose).loosened(sweep + 0.5 * margin));
+        }
+    }
+
+    /// The contacts of the placed link shapes ([`place`](Self::place)) with the bodies (whose shapes,
+    /// poses and swept boxes `colliders` computed in this step's broad phase) and with each other,
+    /// into `out` (cleared first).
+    pub fn find_contacts(&mut self, colliders: &Colliders, bodies: &[RigidBody], out: &mut Vec<LinkContact>) {
+        out.clear();
+        let step = self.step;
+        for l in 0..self.links.len() {
+            if !self.links[l].enabled {
+                continue;
+            }
+            let moving = self.links[l].body.is_some();
+            // against the bodies
+            for (i, body) in bodies.iter().enumerate() {
+                let Some((shape, pose_i, aabb, sweep_i)) = colliders.placed(bodies, i) else { continue };
+                if body.fixed && !moving {
+                    continue;
+                }
+                if let Some(aabb) = aabb {
+                    if !aabb.intersects(&self.aabbs[l]) {
+                        continue;
+                    }
+                }
+                if self.excluded_bodies.binary_search(&(l, i)).is_ok() {
+                    continue;
+                }
+                let prediction = sweep_i + self.sweeps[l];
+                let cache = self.cache.entry((Side::Body(i), Side::Link(l))).or_default();
+                cache.step = step;
+                manifold_contacts(
+                    cache,
+                    (Side::Body(i), &pose_i, shape),
+                    (Side::Link(l), &self.poses[l], &self.links[l].shape),
+                    prediction,
+                    out,
+                );
+            }
+            // against the link shapes after it
+            for m in l + 1..self.links.len() {
+                if !self.aabbs[l].intersects(&self.aabbs[m]) || !self.pair_allowed(l, m) {
+                    continue;
+                }
+                let prediction = self.sweeps[l] + self.sweeps[m];
+                let cache = self.cache.entry((Side::Link(l), Side::Link(m))).or_default();
+                cache.step = step;
+                manifold_contacts(
+                    cache,
+                    (Side::Link(l), &self.poses[l], &self.links[l].shape),
+                    (Side::Link(m), &self.poses[m], &self.links[m].shape),
+                    prediction,
+                    out,
+                );
+            }
+        }
+        if !self.cache.is_empty() {
+            self.cache.retain(|_, p| p.step == step);
+        }
+        self.step += 1;
+    }
+
+    /// The pairs of link shapes of one robot that overlap or touch (within `distance`, m) in the
+    /// current placement: the pairs a robot's initial pose puts in touch, which self-collision leaves
+    /// alone.
+    pub fn touching_pairs(&self, robot: usize, distance: f64) -> Vec<(usize, usize)> {
+        let mut pairs = Vec::new();
+        for l in 0..self.links.len() {
+            for m in l + 1..self.links.len() {
+                let (a, b) = (&self.links[l], &self.links[m]);
+                if a.robot != robot || b.robot != robot || a.body == b.body {
+                    continue;
+                }
+                let pos12 = self.poses[l].inv_mul(&self.poses[m]);
+                if let Ok(d) = parry3d_f64::query::distance(&pos12, a.shape.as_ref(), &Pose::IDENTITY, b.shape.as_ref())
+                {
+                    if d.distance <= distance {
+                        pairs.push((l, m));
+                    }
+                }
+            }
+        }
+        pairs
+    }
+}
+
+/// parry's manifolds of one pair, written as contacts from side `a` to side `b`.
+fn manifold_contacts(
+    cache: &mut PairCache,
+    (side_a, pose_a, shape_a): (Side, &Pose, &SharedShape),
+    (side_b, pose_b, shape_b): (Side, &Pose, &SharedShape),
+    prediction: f64,
+    out: &mut Vec<LinkContact>,
+) {
+    let pos12 = pose_a.inv_mul(pose_b);
+    let found = DefaultQueryDispatcher.contact_manifolds(
+        &pos12,
+        shape_a.as_ref(),
+        shape_b.as_ref(),
+        prediction,
+        &mut cache.manifolds,
+        &mut cache.workspace,
+    );
+    if found.is_err() {
+        return;
+    }
+    let first = out.len();
+    for m in &cache.manifolds {
+        if m.points.is_empty() {
+            continue;
+        }
+        let sub_a = m.subshape_pos1().map_or(*pose_a, |p| *pose_a * *p);
+        let sub_b = m.subshape_pos2().map_or(*pose_b, |p| *pose_b * *p);
+        let normal_world = sub_a.rotation * m.local_n1;
+        let normal_world = if normal_world.is_finite() && normal_world.length_squared() > 0.5 {
+            normal_world.normalize()
+        } else {
+            DVec3::Z
+        };
+        for c in &m.points {
+            if c.dist.is_nan() || c.dist > prediction {
+                continue;
+            }
+            let point_world = 0.5 * (sub_a * c.local_p1 + sub_b * c.local_p2);
+            if let Some(twin) = out[first..].iter_mut().find(|o| {
+                (o.point_world - point_world).length() < DUPLICATE_DISTANCE
+                    && o.normal_world.dot(normal_world) > 1.0 - 1e-6
+            }) {
+                twin.gap = twin.gap.min(c.dist);
+                continue;
+            }
+            let features = (feature_key(m.subshape1, c.fid1.0), feature_key(m.subshape2, c.fid2.0));
+            out.push(LinkContact { a: side_a, b: side_b, point_world, normal_world, gap: c.dist, features });
+        }
+    }
+}

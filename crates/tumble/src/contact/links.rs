@@ -1,0 +1,681 @@
+//! Robot links in contact: collisions and resting contact of link shapes, in generalized velocities.
+//!
+//! References: B. Mirtich, PhD thesis (1996), ch. 4 (the collision matrix of a point of an
+//! articulated body, `K = J_c M⁻¹ J_cᵀ`, constant during the impact, so that the impact integration
+//! of a pair of rigid bodies applies unchanged); R. Featherstone, *Rigid Body Dynamics Algorithms*
+//! (2008), §6.5 (the `LᵀDL` factor that gives `M⁻¹ J_cᵀ`); E. Catto, Box2D v3 (the soft step).
+//!
+//! A contact point `c` on a link of a robot moves with `u_c = J_c v` (module
+//! [`crate::multibody::contact_point`]); an impulse `p` there changes the robot's joint velocities by
+//! `Δv = W p`, `W = M⁻¹ J_cᵀ`. A contact has two sides, each a fixed body, a free body or a robot
+//! link; with `σ_a = −1`, `σ_b = +1` (the impulse `p` acts on `b`, `−p` on `a`):
+//!
+//! ```text
+//! u = Σ_s σ_s u_s                      relative velocity of b with respect to a at the point
+//! K = Σ_s K_s + Σ_{s,s' same robot} σ_s σ_s' J_s W_s'
+//! ```
+//!
+//! with `K_s` a free body's own `(1/m) 1 − r̃ I⁻¹ r̃` (fixed: zero). Two links of the same robot thus
+//! give `K = (J_b − J_a) M⁻¹ (J_b − J_a)ᵀ`, not a sum; links of two robots the sum of their
+//! matrices. `K` is only positive semi-definite at a singular pose (an arm stretched along the
+//! normal): collisions use `K + ε tr(K) 1` with `ε = 1e-12` ([`SINGULAR_EPSILON`]), and the resting
+//! rows skip a direction whose `K` entry is zero.
+//!
+//! Per step, for each robot with a contact: `M(q₀)` by CRBA and its `LᵀDL` factor, each point's
+//! `J_c` and `W`, and the free acceleration `a₀ = ABA(q₀, v₀, τ(q₀, v₀))` (gravity, the joint forces
+//! and PD, held over the step as the free bodies' forces are). Then, as for the free bodies:
+//!
+//! 1. **Collisions**: a contact approaching faster than `impact_speed` whose gap closes within the
+//!    step at that speed is a collision, integrated through the impact with `K` and `u`
+//!    ([`super::collide`]: Coulomb friction, Stronge's law, never a gain of energy). Collisions are
+//!    taken in contact order, sweep after sweep, until no contact collides (at most
+//!    [`IMPACT_SWEEPS`] sweeps). The impulse is applied at the start of the step (a robot has no
+//!    position shift for the time of impact: the energy of an elastic strike is then kept exactly).
+//! 2. **Resting contact**: each contact is a row of the soft step beside the free bodies' constraints
+//!    (same softness, speculative rule, friction disc, relaxation). In each substep `h` a robot's
+//!    solver velocity gains `h a₀`, the rows change it by `W Δλ`, and its displacement in velocity
+//!    coordinates grows by `h v`, which moves the point by `J_c d` (the row's separation).
+//!
+//! A robot the resting rows reached gets, at the start of its own step, the velocity change
+//! `Δv = v_solver − (v₀ + a₀ dt)` (the integrator then ends at the solver's velocity, up to the
+//! change of `a` over the step) and ends its step where the substeps moved it, `q₀ ⊕ d`, before its
+//! joint limits act. A robot only struck (collisions, no resting impulse) gets the collisions' `Δv`
+//! and is integrated as usual.
+
+use super::impact::tangent_basis;
+use super::solver::{Pass, Softness, SolverBody, Sweep};
+use super::{collide, ContactSettings};
+use crate::body::{Material, RigidBody};
+use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
+use crate::collision::Colliders;
+use crate::math::{DMat3, DQuat, DVec3};
+use crate::multibody::contact_point::{impulse_response, point_jacobian};
+use crate::multibody::{aba, crba, ltdl_factor, Control, MultibodyModel, Workspace};
+use crate::world::Robot;
+use parry3d_f64::math::Pose;
+
+/// `ε` of the regularised collision matrix `K + ε tr(K) 1` of a collision involving a robot.
+pub const SINGULAR_EPSILON: f64 = 1e-12;
+
+/// Sweeps over the robot contacts in the collision stage at most.
+pub const IMPACT_SWEEPS: usize = 16;
+
+/// What the contact stage reads of a robot: its model, the forward kinematics of its current state
+/// (`ws.x_world`, `ws.v`), its state, control and material ([`crate::world::Robot::contact_view`]).
+#[derive(Clone, Copy)]
+pub struct RobotView<'a> {
+    pub model: &'a MultibodyModel,
+    pub ws: &'a Workspace,
+    pub q: &'a [f64],
+    pub v: &'a [f64],
+    pub control: &'a Control,
+    pub material: Material,
+}
+
+/// One side of a row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum RowSide {
+    Fixed,
+    Body(usize),
+    /// A point of a robot link: `J_c` at `arena[off..off + 3 nv]`, `W` after it.
+    Robot {
+        robot: usize,
+        off: usize,
+    },
+}
+
+/// One contact row (world frame).
+#[derive(Debug, Clone, Copy)]
+struct Row {
+    a: RowSide,
+    b: RowSide,
+    /// Offsets of the point from the centres of mass of free-body sides (zero otherwise) (m).
+    r_a: DVec3,
+    r_b: DVec3,
+    n: DVec3,
+    t1: DVec3,
+    t2: DVec3,
+    gap: f64,
+    /// `gap − n·(r_b − r_a)`.
+    adjusted_gap: f64,
+    k: DMat3,
+    normal_mass: f64,
+    tangent_mass: [f64; 4],
+    tangent_k: [f64; 3],
+    ang_a: [DVec3; 3],
+    ang_b: [DVec3; 3],
+    mu: f64,
+    e: f64,
+    softness: Softness,
+    speculative: bool,
+    lambda: [f64; 3],
+}
+
+/// A row of the previous step and its impulses (warm starting).
+#[derive(Debug, Clone, Copy)]
+struct Previous {
+    a: Side,
+    b: Side,
+    features: (u64, u64),
+    point_world: DVec3,
+    lambda: [f64; 3],
+}
+
+/// A robot's part of the solve.
+#[derive(Debug, Clone)]
+struct RobotSolve {
+    /// Whether a row uses it in this step (its `M`, `a₀` are computed).
+    engaged: bool,
+    nv: usize,
+    ws: Workspace,
+    tau: Vec<f64>,
+    /// `v₀`, the solver velocity, `a₀`, and the displacement `d = Σ h v` (velocity coordinates).
+    v0: Vec<f64>,
+    v: Vec<f64>,
+    a0: Vec<f64>,
+    d: Vec<f64>,
+    /// What the robot's own step takes: `Δv` and, when held, `q₀ ⊕ d`.
+    dv: Vec<f64>,
+    q_end: Vec<f64>,
+    struck: bool,
+    touched: bool,
+}
+
+/// The link contacts of a step and the buffers to resolve them (no allocation once grown).
+#[derive(Debug, Clone, Default)]
+pub struct LinkStage {
+    /// The link shapes of every robot.
+    pub colliders: LinkColliders,
+    contacts: Vec<LinkContact>,
+    impulses: Vec<DVec3>,
+    rows: Vec<Row>,
+    lambda_sums: Vec<[f64; 3]>,
+    arena: Vec<f64>,
+    robots: Vec<RobotSolve>,
+    previous: Vec<Previous>,
+    /// Collisions resolved and kinetic energy they dissipated (J), since the start.
+    pub impacts: u64,
+    pub energy_lost: f64,
+}
+
+impl LinkStage {
+    /// The link contacts of the last step.
+    pub fn contacts(&self) -> &[LinkContact] {
+        &self.contacts
+    }
+
+    /// The impulse on side `b` of each link contact over the last step (N·s, world frame).
+    pub fn impulses(&self) -> &[DVec3] {
+        &self.impulses
+    }
+
+    /// The active link contacts of the last step with their impulses on `b` (N·s): those that
+    /// carried an impulse or whose surfaces overlapped (as [`super::ContactStage::active`]).
+    pub fn active(&self) -> impl Iterator<Item = (&LinkContact, DVec3)> {
+        self.contacts
+            .iter()
+            .zip(&self.impulses)
+            .filter(|(c, p)| **p != DVec3::ZERO || c.gap < 0.0)
+            .map(|(c, p)| (c, *p))
+    }
+
+    /// Finds the link contacts at the start of the step.
+    pub(super) fn detect(&mut self, colliders: &Colliders, bodies: &[RigidBody], robots: &[Robot], dt: f64, slop: f64) {
+        if self.colliders.is_empty() {
+            self.contacts.clear();
+            return;
+        }
+        self.colliders.place(dt, slop, |r, b| {
+            let ws = robots[r].contact_view().ws;
+            let (x, v) = (ws.x_world[b], ws.v[b]);
+            // b_X_0 = (E, r): world_from_body = (Eᵀ, r)
+            BodyMotion {
+                pose: Pose::from_parts(x.r, DQuat::from_mat3(&x.rotation_a_from_b()).normalize()),
+                speed: v.lin.length(),
+                angular_speed: v.ang.length(),
+            }
+        });
+        let mut contacts = std::mem::take(&mut self.contacts);
+        self.colliders.find_contacts(colliders, bodies, &mut contacts);
+        self.contacts = contacts;
+    }
+
+    /// Whether the step has link contacts.
+    pub(super) fn is_empty(&self) -> bool {
+        self.contacts.is_empty()
+    }
+
+    /// Builds the rows of the step's link contacts: each robot's `M`, `a₀`, each point's `J_c`, `W`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn prepare(
+        &mut self,
+        bodies: &[RigidBody],
+        solver_bodies: &[SolverBody],
+        positions: &[DVec3],
+        robots: &[Robot],
+        settings: &ContactSettings,
+        soft: Softness,
+        soft_fixed: Softness,
+    ) {
+        self.impulses.clear();
+        self.impulses.resize(self.contacts.len(), DVec3::ZERO);
+        self.rows.clear();
+        self.arena.clear();
+        if self.robots.len() != robots.len() {
+            self.robots = robots.iter().map(|r| RobotSolve::new(&r.model)).collect();
+        }
+        for r in &mut self.robots {
+            r.engaged = false;
+            r.struck = false;
+            r.touched = false;
+        }
+        for ci in 0..self.contacts.len() {
+            let c = &self.contacts[ci].clone();
+            let a = self.side(c.a, c.point_world, bodies, robots);
+            let b = self.side(c.b, c.point_world, bodies, robots);
+            let material = |s: Side| match s {
+                Side::Body(i) => bodies[i].material,
+                Side::Link(l) => robots[self.colliders.links()[l].robot].material,
+            };
+            let (ma, mb) = (material(c.a), material(c.b));
+            let mu = (ma.friction.unwrap_or(settings.friction) * mb.friction.unwrap_or(settings.friction)).sqrt();
+            let e = ma.restitution.unwrap_or(settings.restitution).max(mb.restitution.unwrap_or(settings.restitution));
+            let against_fixed = a == RowSide::Fixed || b == RowSide::Fixed;
+            let softness = if against_fixed { soft_fixed } else { soft };
+            let mut row = self.row(a, b, c, solver_bodies, positions, mu, e, softness);
+            if let Some(l) = previous_impulse(&self.previous, c) {
+                row.lambda = l;
+            }
+            self.rows.push(row);
+        }
+        self.lambda_sums.clear();
+        self.lambda_sums.resize(self.rows.len(), [0.0; 3]);
+    }
+
+    /// The row side of a contact side: a robot link's Jacobian and response go into the arena (its
+    /// robot's `M` and `a₀` are computed at its first row of the step).
+    fn side(&mut self, side: Side, point: DVec3, bodies: &[RigidBody], robots: &[Robot]) -> RowSide {
+        match side {
+            Side::Body(i) if bodies[i].fixed => RowSide::Fixed,
+            Side::Body(i) => RowSide::Body(i),
+            Side::Link(l) => {
+                let link = &self.colliders.links()[l];
+                let Some(body) = link.body else { return RowSide::Fixed };
+                let robot = link.robot;
+                let view = robots[robot].contact_view();
+                let solve = &mut self.robots[robot];
+                if !solve.engaged && !solve.engage(&view) {
+                    return RowSide::Fixed;
+                }
+                let nv = solve.nv;
+                let off = self.arena.len();
+                self.arena.resize(off + 6 * nv, 0.0);
+                let (jac, w) = self.arena[off..].split_at_mut(3 * nv);
+                if point_jacobian(view.model, &solve.ws, body, point, jac).is_err()
+                    || impulse_response(view.model, &solve.ws, jac, w).is_err()
+                {
+                    self.arena.truncate(off);
+                    return RowSide::Fixed;
+                }
+                RowSide::Robot { robot, off }
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn row(
+        &self,
+        a: RowSide,
+        b: RowSide,
+        c: &LinkContact,
+        bodies: &[SolverBody],
+        positions: &[DVec3],
+        mu: f64,
+        e: f64,
+        softness: Softness,
+    ) -> Row {
+        let n = c.normal_world;
+        let (t1, t2) = tangent_basis(n);
+        let offset = |s: RowSide| match s {
+            RowSide::Body(i) => c.point_world - positions[i],
+            _ => DVec3::ZERO,
+        };
+        let (r_a, r_b) = (offset(a), offset(b));
+        // K = Σ K_s + Σ_{same robot} σ σ' J W
+        let mut k = DMat3::ZERO;
+        for (s, r) in [(a, r_a), (b, r_b)] {
+            if let RowSide::Body(i) = s {
+                let sb = &bodies[i];
+                k += super::collision_matrix(sb.inv_mass, sb.inv_inertia, r, 0.0, DMat3::ZERO, DVec3::ZERO);
+            }
+        }
+        for (s, sigma) in [(a, -1.0), (b, 1.0)] {
+            for (s2, sigma2) in [(a, -1.0), (b, 1.0)] {
+                if let (RowSide::Robot { robot, off }, RowSide::Robot { robot: robot2, off: off2 }) = (s, s2) {
+                    if robot == robot2 {
+                        let nv = self.robots[robot].nv;
+                        let jac = &self.arena[off..off + 3 * nv];
+                        let w = &self.arena[off2 + 3 * nv..off2 + 6 * nv];
+                        k += sigma * sigma2 * crate::multibody::contact_point::collision_matrix(jac, w, nv);
+                    }
+                }
+            }
+        }
+        let knn = n.dot(k * n);
+        let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
+        let det = k11 * k22 - k12 * k12;
+        let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        let ang = |s: RowSide, r: DVec3| match s {
+            RowSide::Body(i) => [n, t1, t2].map(|d| bodies[i].inv_inertia * r.cross(d)),
+            _ => [DVec3::ZERO; 3],
+        };
+        Row {
+            a,
+            b,
+            r_a,
+            r_b,
+            n,
+            t1,
+            t2,
+            gap: c.gap,
+            adjusted_gap: c.gap - n.dot(r_b - r_a),
+            k,
+            normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
+            tangent_mass,
+            tangent_k: [k11, k12, k22],
+            ang_a: ang(a, r_a),
+            ang_b: ang(b, r_b),
+            mu,
+            e,
+            softness,
+            speculative: c.gap > 0.0,
+            lambda: [0.0; 3],
+        }
+    }
+
+    /// Stage 1 for the link contacts: collisions in contact order, sweep after sweep (see the
+    /// module's text). Changes the free bodies' solver velocities (the caller writes them back).
+    /// Whether any collision happened.
+    pub(super) fn impacts(&mut self, bodies: &mut [SolverBody], settings: &ContactSettings, dt: f64) -> bool {
+        let mut any = false;
+        for _ in 0..IMPACT_SWEEPS {
+            let mut struck = false;
+            for (i, row) in self.rows.iter().enumerate() {
+                let u = self.velocity(row, bodies);
+                let un = u.dot(row.n);
+                // approaching faster than the impact speed, and closing within the step at that speed
+                if un >= -settings.impact_speed || row.gap + un * dt > 0.0 {
+                    continue;
+                }
+                let k = row.k + SINGULAR_EPSILON * (row.k.x_axis.x + row.k.y_axis.y + row.k.z_axis.z) * DMat3::IDENTITY;
+                let Some(impact) = collide(k, row.n, u, row.mu, row.e, settings.law) else { continue };
+                let p = impact.impulse_world;
+                apply(&mut self.robots, &self.arena, bodies, row, p);
+                self.impulses[i] += p;
+                self.impacts += 1;
+                self.energy_lost += impact.energy_lost;
+                struck = true;
+            }
+            if !struck {
+                break;
+            }
+            any = true;
+        }
+        for r in &mut self.robots {
+            if r.engaged {
+                r.struck = r.v != r.v0;
+            }
+        }
+        any
+    }
+
+    /// The velocity of side `b` relative to side `a` at the row's point (m/s, world frame).
+    fn velocity(&self, row: &Row, bodies: &[SolverBody]) -> DVec3 {
+        side_velocity(&self.robots, &self.arena, bodies, row.b, row.r_b)
+            - side_velocity(&self.robots, &self.arena, bodies, row.a, row.r_a)
+    }
+
+    /// The free bodies the rows move (to add to the solver's active bodies).
+    pub(super) fn bodies(&self) -> impl Iterator<Item = usize> + '_ {
+        self.rows.iter().flat_map(|r| [r.a, r.b]).filter_map(|s| match s {
+            RowSide::Body(i) => Some(i),
+            _ => None,
+        })
+    }
+
+    /// Substep: the robots' velocities gain `h a₀`.
+    pub(super) fn integrate_velocity(&mut self, h: f64) {
+        for r in self.robots.iter_mut().filter(|r| r.engaged) {
+            for (v, a) in r.v.iter_mut().zip(&r.a0) {
+                *v += h * a;
+            }
+        }
+    }
+
+    /// Substep: the robots' displacements grow by `h v`.
+    pub(super) fn integrate_position(&mut self, h: f64) {
+        for r in self.robots.iter_mut().filter(|r| r.engaged) {
+            for (d, v) in r.d.iter_mut().zip(&r.v) {
+                *d += h * v;
+            }
+        }
+    }
+
+    /// Substep: applies the rows' accumulated impulses (warm start).
+    pub(super) fn warm_start(&mut self, bodies: &mut [SolverBody]) {
+        for row in &self.rows {
+            if row.lambda != [0.0; 3] {
+                let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
+                apply(&mut self.robots, &self.arena, bodies, row, p);
+            }
+        }
+    }
+
+    /// One Gauss–Seidel pass over the rows (as [`super::solver::Constraint::solve`]).
+    pub(super) fn solve(&mut self, bodies: &mut [SolverBody], sweep: &Sweep) {
+        for i in 0..self.rows.len() {
+            let row = self.rows[i];
+            let u = self.velocity(&row, bodies);
+            let un = u.dot(row.n);
+            if row.speculative && -un > sweep.impact_speed {
+                if row.lambda != [0.0; 3] {
+                    let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
+                    apply(&mut self.robots, &self.arena, bodies, &row, -p);
+                    self.rows[i].lambda = [0.0; 3];
+                }
+                continue;
+            }
+            // the separation now: gap + n·(Δp_b − Δp_a)
+            let s = row.adjusted_gap
+                + row.n.dot(
+                    side_displacement(&self.robots, &self.arena, bodies, row.b, row.r_b)
+                        - side_displacement(&self.robots, &self.arena, bodies, row.a, row.r_a),
+                );
+            let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+                (s * sweep.inv_h, 1.0, 0.0)
+            } else if sweep.pass == Pass::Solve {
+                let k = row.softness;
+                ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let lambda = row.lambda;
+            let new = (lambda[0] - row.normal_mass * mass_scale * (un + bias) - impulse_scale * lambda[0]).max(0.0);
+            let dn = new - lambda[0];
+            // friction, with the normal impulse's effect on the velocity: u + Δλ_n K n
+            let u = u + dn * (row.k * row.n);
+            let (ux, uy) = (u.dot(row.t1), u.dot(row.t2));
+            let m = row.tangent_mass;
+            let (mut l1, mut l2) = (lambda[1] - (m[0] * ux + m[1] * uy), lambda[2] - (m[2] * ux + m[3] * uy));
+            let limit = row.mu * new;
+            if l1 * l1 + l2 * l2 > limit * limit {
+                if limit > 0.0 {
+                    (l1, l2) = super::solver::project_on_disc(row.tangent_k, l1, l2, limit);
+                }
+                let len = (l1 * l1 + l2 * l2).sqrt();
+                let scale = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
+                l1 *= scale;
+                l2 *= scale;
+            }
+            let (d1, d2) = (l1 - lambda[1], l2 - lambda[2]);
+            self.rows[i].lambda = [new, l1, l2];
+            if dn != 0.0 || d1 != 0.0 || d2 != 0.0 {
+                let p = dn * row.n + d1 * row.t1 + d2 * row.t2;
+                apply(&mut self.robots, &self.arena, bodies, &row, p);
+            }
+            if self.rows[i].lambda != [0.0; 3] {
+                mark_touched(&mut self.robots, bodies, &row);
+            }
+        }
+    }
+
+    /// End of a substep: adds each row's accumulated impulses to its sum.
+    pub(super) fn accumulate(&mut self) {
+        for (sum, row) in self.lambda_sums.iter_mut().zip(&self.rows) {
+            for (s, l) in sum.iter_mut().zip(row.lambda) {
+                *s += l;
+            }
+        }
+    }
+
+    /// After the substeps: the impulses of the step, the rows kept for warm starting, and what each
+    /// robot's own step takes (`Δv`, and `q₀ ⊕ d` when the resting rows held it).
+    pub(super) fn finish(&mut self, robots: &[Robot], dt: f64) {
+        for ((p, sum), row) in self.impulses.iter_mut().zip(&self.lambda_sums).zip(&self.rows) {
+            *p += sum[0] * row.n + sum[1] * row.t1 + sum[2] * row.t2;
+        }
+        self.previous.clear();
+        for (c, row) in self.contacts.iter().zip(&self.rows) {
+            self.previous.push(Previous {
+                a: c.a,
+                b: c.b,
+                features: c.features,
+                point_world: c.point_world,
+                lambda: row.lambda,
+            });
+        }
+        self.previous.sort_by_key(|p| (p.a, p.b));
+        for (r, robot) in self.robots.iter_mut().zip(robots) {
+            if !r.engaged {
+                continue;
+            }
+            let view = robot.contact_view();
+            if r.touched {
+                // Δv = v_solver − (v₀ + a₀ dt);  q_end = q₀ ⊕ d
+                for i in 0..r.nv {
+                    r.dv[i] = r.v[i] - (r.v0[i] + r.a0[i] * dt);
+                }
+                if view.model.integrate(view.q, &r.d, 1.0, &mut r.q_end).is_err() {
+                    r.touched = false;
+                }
+            } else if r.struck {
+                // the collisions' Δv alone: v after them is v₀ + Δv, before the substeps' h a₀
+                for i in 0..r.nv {
+                    r.dv[i] = r.v[i] - (r.v0[i] + r.a0[i] * dt);
+                }
+            }
+        }
+    }
+
+    /// What robot `robot`'s own step takes from the contacts: the velocity change at the start of
+    /// the step, and the end configuration when resting contact held it. `None`: untouched.
+    pub fn robot_change(&self, robot: usize) -> Option<(&[f64], Option<&[f64]>)> {
+        let r = self.robots.get(robot)?;
+        if !r.engaged || !(r.touched || r.struck) {
+            return None;
+        }
+        Some((&r.dv, r.touched.then_some(r.q_end.as_slice())))
+    }
+
+    /// Forgets the step's rows (no contact this step).
+    pub(super) fn clear(&mut self) {
+        self.contacts.clear();
+        self.impulses.clear();
+        self.rows.clear();
+        self.previous.clear();
+        for r in &mut self.robots {
+            r.engaged = false;
+        }
+    }
+}
+
+impl RobotSolve {
+    fn new(model: &MultibodyModel) -> Self {
+        let nv = model.nv();
+        Self {
+            engaged: false,
+            nv,
+            ws: Workspace::new(model),
+            tau: vec![0.0; nv],
+            v0: vec![0.0; nv],
+            v: vec![0.0; nv],
+            a0: vec![0.0; nv],
+            d: vec![0.0; nv],
+            dv: vec![0.0; nv],
+            q_end: vec![0.0; model.nq()],
+            struck: false,
+            touched: false,
+        }
+    }
+
+    /// `M(q₀)` and its factor, `a₀ = ABA(q₀, v₀, τ(q₀, v₀))`, and the solver's state at `v₀`.
+    /// `false` if the dynamics cannot be evaluated (the robot then takes no contact this step).
+    fn engage(&mut self, view: &RobotView) -> bool {
+        let (model, q, v) = (view.model, view.q, view.v);
+        if crba(model, &mut self.ws, q).is_err() || ltdl_factor(model, &mut self.ws).is_err() {
+            return false;
+        }
+        if view.control.joint_forces(model, q, v, &mut self.tau).is_err()
+            || aba(model, &mut self.ws, q, v, &self.tau, &mut self.a0).is_err()
+        {
+            return false;
+        }
+        // ABA overwrote the placements with those of the same q: the CRBA's s_world still hold
+        self.v0.copy_from_slice(v);
+        self.v.copy_from_slice(v);
+        self.d.fill(0.0);
+        self.dv.fill(0.0);
+        self.engaged = true;
+        true
+    }
+}
+
+/// The world velocity of a row side at the point (`r` the offset from a free body's centre of mass).
+#[inline]
+fn side_velocity(robots: &[RobotSolve], arena: &[f64], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
+    match side {
+        RowSide::Fixed => DVec3::ZERO,
+        RowSide::Body(i) => bodies[i].v + bodies[i].w.cross(r),
+        RowSide::Robot { robot, off } => {
+            let s = &robots[robot];
+            crate::multibody::contact_point::point_velocity(&arena[off..off + 3 * s.nv], &s.v)
+        }
+    }
+}
+
+/// The displacement of a row side's point since the start of the step (m, world frame; a free
+/// body's as `Δx + ΔR r`, to be taken relative to `r`, as the free bodies' constraints do).
+#[inline]
+fn side_displacement(robots: &[RobotSolve], arena: &[f64], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
+    match side {
+        RowSide::Fixed => DVec3::ZERO,
+        RowSide::Body(i) => bodies[i].dx + bodies[i].drot * r,
+        RowSide::Robot { robot, off } => {
+            let s = &robots[robot];
+            crate::multibody::contact_point::point_velocity(&arena[off..off + 3 * s.nv], &s.d)
+        }
+    }
+}
+
+/// Applies the impulse `p` (N·s, world frame) on side `b` and `−p` on side `a`.
+fn apply(robots: &mut [RobotSolve], arena: &[f64], bodies: &mut [SolverBody], row: &Row, p: DVec3) {
+    for (side, sign, ang) in [(row.a, -1.0, &row.ang_a), (row.b, 1.0, &row.ang_b)] {
+        match side {
+            RowSide::Fixed => {}
+            RowSide::Body(i) => {
+                let sb = &mut bodies[i];
+                sb.v += sign * sb.inv_mass * p;
+                // Δω = I⁻¹ (r × p), from the responses to n, t1, t2 computed once per step
+                let (pn, p1, p2) = (p.dot(row.n), p.dot(row.t1), p.dot(row.t2));
+                sb.w += sign * (pn * ang[0] + p1 * ang[1] + p2 * ang[2]);
+            }
+            RowSide::Robot { robot, off } => {
+                // Δv = σ W p
+                let s = &mut robots[robot];
+                let nv = s.nv;
+                crate::multibody::contact_point::apply_impulse(&arena[off + 3 * nv..off + 6 * nv], sign * p, &mut s.v);
+            }
+        }
+    }
+}
+
+/// Marks the sides of a row that holds an impulse as reached by it.
+fn mark_touched(robots: &mut [RobotSolve], bodies: &mut [SolverBody], row: &Row) {
+    for side in [row.a, row.b] {
+        match side {
+            RowSide::Fixed => {}
+            RowSide::Body(i) => bodies[i].touched = true,
+            RowSide::Robot { robot, .. } => robots[robot].touched = true,
+        }
+    }
+}
+
+/// Largest distance (m) between a contact point and the previous step's point of the same pair
+/// whose impulse it inherits when the feature ids do not match.
+const WARM_MATCH_DISTANCE: f64 = 0.02;
+
+/// The impulses a link contact inherits from the previous step (as for the free bodies' contacts).
+fn previous_impulse(previous: &[Previous], c: &LinkContact) -> Option<[f64; 3]> {
+    let start = previous.partition_point(|p| (p.a, p.b) < (c.a, c.b));
+    let mut best: Option<(f64, [f64; 3])> = None;
+    for p in previous[start..].iter().take_while(|p| (p.a, p.b) == (c.a, c.b)) {
+        if p.features == c.features {
+            return Some(p.lambda);
+        }
+        let d = (p.point_world - c.point_world).length_squared();
+        if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
+            best = Some((d, p.lambda));
+        }
+    }
+    best.map(|b| b.1)
+}
