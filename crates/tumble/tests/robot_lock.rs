@@ -158,7 +158,8 @@ fn romeo_scene(lock: &str) -> (tempfile::TempDir, Result<Scene, SceneError>) {
     let dir = tempfile::tempdir().unwrap();
     let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/robots/romeo.urdf");
     let text = format!(
-        "version = 1\n[[robot]]\nname = \"romeo\"\nurdf = \"{}\"\nbase = \"floating\"\nposition = [0.0, 0.0, 1.0]\n{lock}\n",
+        "version = 1\n[[robot]]\nname = \"romeo\"\nurdf = \"{}\"\nbase = \"floating\"\nposition = [0.0, 0.0, 1.0]\n{lock}\n\
+         collision = false\n",
         urdf.display()
     );
     let loaded = load_in(dir.path(), &text);
@@ -258,20 +259,22 @@ fn a_mesh_is_found_under_the_package_paths() {
     assert_eq!(shapes.len(), 1);
     assert!(scene.warnings.iter().all(|w| !w.contains("not resolved")), "{:?}", scene.warnings);
 
-    // without the key: a warning, and the collision shape names where the package was looked for
-    let scene = mesh_scene(dir.path(), "").unwrap();
-    let model = &scene.world.robots[0].model;
+    // without the key: an error naming the URDF line and where the package was looked for
+    let e = error_of(mesh_scene(dir.path(), ""));
+    assert!(e.contains("scene.toml:4:8: robot[0].urdf: ") && e.contains("m.urdf:4: link 'arm': <collision>"), "{e}");
+    assert!(e.contains("mesh 'package://mypkg/meshes/cube.obj' could not be resolved"), "{e}");
+    assert!(e.contains("no directory named 'mypkg' contains") && e.contains("package_paths"), "{e}");
+    // so is the warning, when the robot does not collide
+    let scene = mesh_scene(dir.path(), "collision = false").unwrap();
     let warning = scene.warnings.iter().find(|w| w.contains("not resolved")).expect("a warning");
     assert!(warning.contains("m.urdf:4: link 'arm': mesh 'package://mypkg/meshes/cube.obj'"), "{warning}");
-    assert!(warning.contains("no directory named 'mypkg' contains") && warning.contains("package_paths"), "{warning}");
-    let e = collision_shapes(model, "m.urdf").unwrap_err().to_string();
-    assert!(e.contains("m.urdf:4: link 'arm'") && e.contains("no directory named 'mypkg'"), "{e}");
+    assert!(warning.contains("no directory named 'mypkg' contains"), "{warning}");
 
     // a package path without the file: every path tried is named
-    let scene = mesh_scene(dir.path(), "package_paths = [\"other\"]").unwrap();
-    let e = collision_shapes(&scene.world.robots[0].model, "m.urdf").unwrap_err().to_string();
+    let e = error_of(mesh_scene(dir.path(), "package_paths = [\"other\"]"));
     let tried = dir.path().join("other/mypkg/meshes/cube.obj");
-    assert!(e.contains("the paths tried") && e.contains(&tried.display().to_string()), "{e}");
+    assert!(e.contains("m.urdf:4: link 'arm'") && e.contains("the paths tried"), "{e}");
+    assert!(e.contains(&tried.display().to_string()), "{e}");
 
     // a package path that is not a directory
     let e = error_of(mesh_scene(dir.path(), "package_paths = [\"pkgs\", \"nowhere\"]"));
