@@ -16,6 +16,7 @@ pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
             order,
             balance_inertia: args.balance_inertia,
             massless: if args.massless == "fuse" { Massless::Fuse } else { Massless::Error },
+            ..UrdfOptions::default()
         },
     )
     .map_err(Failure::bad_input)

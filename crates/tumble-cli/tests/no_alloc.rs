@@ -113,6 +113,17 @@ fn the_run_loop_allocates_nothing_per_step_with_robots() {
     }
 }
 
+/// A reduced robot (`scenes/panda_locked.toml`: wrist and fingers locked) steps without allocating:
+/// the reduction is done once, when the scene is read.
+#[test]
+fn the_run_loop_allocates_nothing_per_step_with_a_locked_robot() {
+    for integrator in Integrator::ALL {
+        let short = robot_allocations("panda_locked.toml", integrator, Format::JsonLines, 100);
+        let long = robot_allocations("panda_locked.toml", integrator, Format::JsonLines, 1000);
+        assert_eq!(short, long, "{integrator}: {short} allocations for 100 steps, {long} for 1000");
+    }
+}
+
 /// The same for a contact scene with its contacts on: allocations over `steps` steps of
 /// `scenes/NAME.toml`, every step written, the contacts file (`--contacts`) too.
 fn contact_allocations(name: &str, steps: u64) -> usize {

@@ -61,7 +61,7 @@ pub fn collision_shapes(model: &MultibodyModel, urdf_file: &str) -> Result<Vec<L
                 Shape::Cylinder { radius: *radius, half_height: *half_length }
             }
             GeometryShape::Mesh { uri, path, scale } => {
-                let path = path.as_ref().ok_or_else(|| fail(format!("mesh '{uri}' could not be resolved")))?;
+                let path = path.as_ref().ok_or_else(|| fail(unresolved(model, uri)))?;
                 let soup = read_file(path, &MeshLimits::default())
                     .map_err(|e| fail(format!("mesh '{uri}': {} (the path tried: {})", e.problem, path.display())))?;
                 let points: Vec<DVec3> = soup.vertices.iter().map(|v| *v * *scale).collect();
@@ -77,4 +77,14 @@ pub fn collision_shapes(model: &MultibodyModel, urdf_file: &str) -> Result<Vec<L
         shapes.push(LinkShape { link: g.link.clone(), body, shape, position_body, orientation_body, line: g.line });
     }
     Ok(shapes)
+}
+
+/// "mesh '…' could not be resolved", with the reason the URDF reader gave in its warning (the paths
+/// tried, or why none could be).
+fn unresolved(model: &MultibodyModel, uri: &str) -> String {
+    let marker = format!("mesh '{uri}' not resolved: ");
+    match model.warnings.iter().find_map(|w| w.split_once(&marker).map(|(_, why)| why)) {
+        Some(why) => format!("mesh '{uri}' could not be resolved: {why}"),
+        None => format!("mesh '{uri}' could not be resolved"),
+    }
 }

@@ -9,6 +9,7 @@
 //! | [`spatial`]   | motion/force vectors, Plücker transforms, inertias, `crm`/`crf` | —          |
 //! | [`joint`]     | joint kinds, `X_J(q)`, motion subspaces `S`, `q̇ = G(q) v`  | —               |
 //! | [`model`]     | the immutable [`MultibodyModel`] and its builder           | —               |
+//! | [`reduce`]    | locked joints: the reduced model (`buildReducedModel`)     | `O(n)` once     |
 //! | [`workspace`] | the mutable [`Workspace`], allocated once                  | —               |
 //! | [`urdf`]      | URDF → model, with file:line:column errors                 | `O(n)`          |
 //! | [`fk`]        | link poses and velocities                                  | `O(n)`          |
@@ -40,6 +41,7 @@ pub mod limits;
 pub mod link_shapes;
 pub mod ltdl;
 pub mod model;
+pub mod reduce;
 pub mod rnea;
 pub mod simulate;
 pub mod spatial;
@@ -58,6 +60,7 @@ pub use model::{
     Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,
     MultibodyModel,
 };
+pub use reduce::{kept_coordinates, reduced_model, LockError};
 pub use rnea::{bias_forces, rnea};
 pub use simulate::{ContactChange, Control, Method, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};

@@ -165,6 +165,9 @@ pub struct MultibodyModel {
     pub warnings: Vec<String>,
     /// Every `<collision>` and `<visual>` geometry of the links, in file order.
     pub geometries: Vec<LinkGeometry>,
+    /// The joints locked by [`reduced_model`](super::reduce::reduced_model) and the values (their
+    /// `q`) they are held at, in the source model's order; empty for a model as read.
+    pub locked: Vec<(String, Vec<f64>)>,
     nq: usize,
     nv: usize,
     /// Motion subspace columns, one per velocity coordinate (child frame).
@@ -244,6 +247,19 @@ impl MultibodyModel {
             j.kind.neutral(&mut q[j.q_index..j.q_index + j.kind.nq()]);
         }
         q
+    }
+
+    /// The joints whose subtree (their body and its descendants) has no mass, in body order: the
+    /// rows of the mass matrix that are zero. Empty for a model built by [`ModelBuilder::build`].
+    pub fn massless_joints(&self) -> Vec<&str> {
+        let mut subtree_mass: Vec<f64> = self.bodies.iter().map(|b| b.inertia.mass).collect();
+        // children before parents (parent[i] < i)
+        for i in (0..self.bodies.len()).rev() {
+            if let Some(p) = self.bodies[i].parent {
+                subtree_mass[p] += subtree_mass[i];
+            }
+        }
+        self.bodies.iter().zip(&subtree_mass).filter(|(_, &m)| m <= 0.0).map(|(b, _)| b.joint.name.as_str()).collect()
     }
 
     /// The index of the body whose joint is named `name`.
@@ -438,6 +454,14 @@ impl ModelBuilder {
                 return Err(ModelError::MasslessSubtree { joint: b.joint.name.clone(), body: b.name.clone() });
             }
         }
+        self.build_allowing_massless()
+    }
+
+    /// Builds the model without checking that every moving subtree has mass: its mass matrix is
+    /// singular where one has none. For a model that [`reduced_model`](super::reduce::reduced_model)
+    /// then makes regular by locking those joints (the reduced model is checked).
+    pub fn build_allowing_massless(self) -> Result<MultibodyModel, ModelError> {
+        let n = self.bodies.len();
         let mut subspace = Vec::with_capacity(self.nv);
         let mut dof_body = Vec::with_capacity(self.nv);
         let mut dof_parent = Vec::with_capacity(self.nv);
@@ -470,6 +494,7 @@ impl ModelBuilder {
             world_inertia: self.world_inertia,
             warnings: self.warnings,
             geometries: self.geometries,
+            locked: Vec::new(),
             nq: self.nq,
             nv: self.nv,
             subspace,

@@ -15,9 +15,10 @@
 //! - `<collision>` and `<visual>` elements are recorded in `model.geometries` (box, cylinder, sphere,
 //!   mesh with `scale`, each at its `<origin>` in the link frame; `geometry_placement` puts it on the
 //!   body it moves with); a geometry that cannot be used is left out with a warning naming its line.
-//!   `<mesh filename>` is also listed by `model.meshes()`, resolved by [`resolve_mesh`] (`package://`,
-//!   relative and absolute paths) but not read here; what cannot be resolved, or leaves its
-//!   directory, gives a warning.
+//!   `<mesh filename>` is also listed by `model.meshes()`, resolved by [`resolve_mesh_in`]
+//!   (`package://` in the URDF's parent directories, then in [`UrdfOptions::package_paths`];
+//!   `file://`, relative and absolute paths) but not read here; what cannot be resolved, or leaves
+//!   its directory, gives a warning (with the paths tried).
 //!
 //! Rejected: malformed XML and DTDs (roxmltree), duplicate names, unknown joint types, a joint
 //! naming a missing link, a link with two parent joints, no root or several roots, cycles, zero or
@@ -117,7 +118,7 @@ pub enum UrdfErrorKind {
 
 /// Options of [`load_urdf`] and [`parse_urdf`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct UrdfOptions {
+pub struct UrdfOptions<'a> {
     /// Connect the root link to the world by a floating joint (a free-flyer base).
     pub floating: bool,
     /// The order of a link's children in the depth-first joint numbering.
@@ -128,6 +129,9 @@ pub struct UrdfOptions {
     pub balance_inertia: bool,
     /// What to do with a movable joint whose subtree has no mass.
     pub massless: Massless,
+    /// Directories that hold packages: `package://NAME/REST` is looked for as `DIR/NAME/REST` in
+    /// each, after the URDF's parent directories (see [`resolve_mesh_in`]).
+    pub package_paths: &'a [PathBuf],
 }
 
 /// What to do with a movable joint whose subtree has no mass (its row of the mass matrix is zero).
@@ -139,6 +143,10 @@ pub enum Massless {
     /// The joint is made fixed at `q = 0`, with one warning per joint: the subtree has no mass, so
     /// the other joints' dynamics are unchanged; only its own motion is lost.
     Fuse,
+    /// The model is built as it is (its mass matrix singular in those rows), for a model whose
+    /// massless joints [`reduced_model`](super::reduce::reduced_model) then locks: the reduced model
+    /// is checked.
+    Allow,
 }
 
 /// The order in which the depth-first numbering visits a link's children.
@@ -153,7 +161,7 @@ pub enum ChildOrder {
 }
 
 /// Reads and parses a URDF file.
-pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+pub fn load_urdf(path: &Path, options: UrdfOptions<'_>) -> Result<MultibodyModel, UrdfError> {
     let file = path.display().to_string();
     let whole_file =
         |kind| UrdfError { file: file.clone(), line: 0, column: 0, element: "robot".into(), kind: Box::new(kind) };
@@ -166,7 +174,7 @@ pub fn load_urdf(path: &Path, options: UrdfOptions) -> Result<MultibodyModel, Ur
 }
 
 /// Parses URDF text; `file` names it in errors.
-pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<MultibodyModel, UrdfError> {
+pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions<'_>) -> Result<MultibodyModel, UrdfError> {
     let doc = Document::parse(text).map_err(|e| {
         let pos = e.pos();
         UrdfError {
@@ -183,7 +191,7 @@ pub fn parse_urdf(text: &str, file: &str, options: UrdfOptions) -> Result<Multib
 struct Parser<'a, 'input> {
     doc: &'a Document<'input>,
     file: &'a str,
-    options: UrdfOptions,
+    options: UrdfOptions<'a>,
 }
 
 /// A link as read.
@@ -469,7 +477,9 @@ impl<'a, 'input> Parser<'a, 'input> {
         for g in geometries {
             builder.add_geometry(g);
         }
-        builder.build().map_err(|e| {
+        let built =
+            if options.massless == Massless::Allow { builder.build_allowing_massless() } else { builder.build() };
+        built.map_err(|e| {
             let node = match &e {
                 ModelError::MasslessSubtree { joint, .. } => {
                     joint_index.get(joint.as_str()).map(|&j| joints[j].node).unwrap_or(root)
@@ -537,7 +547,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                         // a negative factor mirrors the mesh (left and right parts share one file)
                         Ok(scale) if scale.is_finite() && scale.abs().min_element() > 0.0 => {
                             let mesh_line = self.line(shape_node);
-                            let path = match resolve_mesh(Path::new(self.file), uri) {
+                            let path = match resolve_mesh_in(Path::new(self.file), uri, self.options.package_paths) {
                                 Ok(path) => Some(path),
                                 Err(why) => {
                                     warnings.push(format!(
@@ -784,10 +794,13 @@ pub fn resolve_mesh(urdf: &Path, uri: &str) -> Result<PathBuf, String> {
         // `package:///name/…` (an empty host, as some robots write it) names the same package
         let rest = rest.trim_start_matches('/');
         let (package, relative) = rest.split_once('/').ok_or("no path after the package name")?;
-        let root = urdf_dir
-            .ancestors()
-            .find(|a| a.file_name().is_some_and(|n| n == package))
-            .ok_or_else(|| format!("no directory named '{package}' contains {}", urdf.display()))?;
+        let root = urdf_dir.ancestors().find(|a| a.file_name().is_some_and(|n| n == package)).ok_or_else(|| {
+            format!(
+                "no directory named '{package}' contains {} (its parent directories were searched; a scene's \
+                     `package_paths` lists more directories that hold packages)",
+                urdf.display()
+            )
+        })?;
         return inside(root, relative);
     }
     if let Some(absolute) = uri.strip_prefix("file://") {
@@ -800,6 +813,39 @@ pub fn resolve_mesh(urdf: &Path, uri: &str) -> Result<PathBuf, String> {
         return Ok(PathBuf::from(uri));
     }
     inside(urdf_dir, uri)
+}
+
+/// Resolves a mesh URI as [`resolve_mesh`] does, and looks for `package://NAME/REST` in the
+/// directories `package_paths` too (as ROS's `ROS_PACKAGE_PATH` and Pinocchio's `package_dirs`:
+/// `DIR/NAME/REST`), after the URDF's parent directories.
+///
+/// Without package paths nothing touches the file system (the path found by the URDF's parent
+/// directories, as [`resolve_mesh`]). With them, the first candidate that is a file wins; when none
+/// is, the error lists every path tried.
+pub fn resolve_mesh_in(urdf: &Path, uri: &str, package_paths: &[PathBuf]) -> Result<PathBuf, String> {
+    let Some(rest) = uri.strip_prefix("package://").filter(|_| !package_paths.is_empty()) else {
+        return resolve_mesh(urdf, uri);
+    };
+    let rest = rest.trim_start_matches('/');
+    let (package, relative) = rest.split_once('/').ok_or("no path after the package name")?;
+    if matches!(package, "" | "." | "..") {
+        return Err(format!("'{package}' is not a package name"));
+    }
+    let mut tried = Vec::new();
+    // the URDF's parent directories first, then each package path
+    match resolve_mesh(urdf, uri) {
+        Ok(path) => tried.push(path),
+        Err(why) if why.starts_with("no directory named") => {}
+        Err(why) => return Err(why),
+    }
+    for dir in package_paths {
+        tried.push(inside(&dir.join(package), relative)?);
+    }
+    if let Some(found) = tried.iter().find(|p| p.is_file()) {
+        return Ok(found.clone());
+    }
+    let list = tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
+    Err(format!("no such file; the paths tried: {list}"))
 }
 
 /// `root/relative` with `.` and `..` applied, refused if it leaves `root`.

@@ -4,6 +4,12 @@
 //! Every joint name is checked against the model; an unknown one is an error that lists the valid
 //! names (and the nearest one). Values are checked like a body's: finite, in range, of the joint's
 //! length (`nq` for `q`, `nv` for `v` and `torque`).
+//!
+//! `lock`: `q` is read against the full model (a locked joint's entry is the value it is held at),
+//! then the model is reduced ([`reduced_model`]) and everything else (`v`, `torque`, `damping`,
+//! `pd`, the state, the outputs) speaks the reduced layout; naming a locked joint there is an error.
+//! `package_paths`: directories (relative to the scene) where `package://NAME/` is looked for after
+//! the URDF's parent directories ([`UrdfOptions::package_paths`]).
 
 use super::error::{nearest, num, nums, SceneError, Source};
 use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
@@ -11,12 +17,13 @@ use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TO
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::spatial::Xform;
 use crate::multibody::{
-    load_urdf, Control, FrameOrigin, JointKind, ModelError, MultibodyModel, UrdfErrorKind, UrdfOptions,
+    kept_coordinates, load_urdf, reduced_model, Control, FrameOrigin, JointKind, LockError, Massless, ModelError,
+    MultibodyModel, UrdfErrorKind, UrdfOptions,
 };
 use crate::world::Robot;
 use std::collections::HashMap;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The base kinds, as written in files.
 const BASES: [&str; 2] = ["fixed", "floating"];
@@ -35,7 +42,7 @@ pub(crate) fn read_robots(
     let mut robots = Vec::with_capacity(entries.len());
     for (i, entry) in entries.iter().enumerate() {
         let path = format!("robot[{i}]");
-        let mut reader = RobotReader { src, path: &path, span: entry.span.as_ref(), warnings };
+        let mut reader = RobotReader { src, path: &path, span: entry.span.as_ref(), warnings, locked: Vec::new() };
         robots.push(reader.read(&entry.value, taken, gravity)?);
     }
     Ok(robots)
@@ -46,6 +53,8 @@ struct RobotReader<'r, 'a> {
     path: &'r str,
     span: Option<&'r Range<usize>>,
     warnings: &'r mut Vec<String>,
+    /// The joints of `lock` (for the errors of `v`, `torque`, `damping` and `pd` that name one).
+    locked: Vec<String>,
 }
 
 impl RobotReader<'_, '_> {
@@ -78,7 +87,6 @@ impl RobotReader<'_, '_> {
         let position = self.position(doc)?;
         let orientation = self.orientation(doc)?;
         let mut q = model.neutral_configuration();
-        let mut v = vec![0.0; model.nv()];
         if floating {
             // the base pose is the free-flyer's coordinates
             q[0..3].copy_from_slice(&position.to_array());
@@ -101,6 +109,11 @@ impl RobotReader<'_, '_> {
                 q[qi..qi + kind.nq()].copy_from_slice(&values);
             }
         }
+        // `q` names joints of the full model: a locked joint's entry is the value it is held at
+        if let Some(lock) = &doc.lock {
+            (model, q) = self.lock(lock, &model, &q)?;
+        }
+        let mut v = vec![0.0; model.nv()];
         if let Some(table) = &doc.v {
             for (joint, value) in &table.value.0 {
                 let j = self.joint(&model, "v", joint, value.span.as_ref().or(table.span.as_ref()))?;
@@ -217,17 +230,36 @@ impl RobotReader<'_, '_> {
                 .error(self.span, self.at("urdf"), "missing: a robot needs its URDF file")
                 .hint("e.g. `urdf = \"robots/arm.urdf\"` (relative to the scene file)"));
         };
-        let path = Path::new(self.src.origin).parent().unwrap_or(Path::new("")).join(&urdf.value);
+        let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
+        let path = scene_dir.join(&urdf.value);
         let balance_inertia = doc.balance_inertia.as_ref().is_some_and(|b| b.value);
-        let options = UrdfOptions { floating, balance_inertia, ..UrdfOptions::default() };
+        // with `lock`, massless joints are allowed until the model is reduced (then checked)
+        let massless = if doc.lock.is_some() { Massless::Allow } else { Massless::Error };
+        let package_paths = self.package_paths(doc, scene_dir)?;
+        let options = UrdfOptions {
+            floating,
+            balance_inertia,
+            massless,
+            package_paths: &package_paths,
+            ..UrdfOptions::default()
+        };
         let model = load_urdf(&path, options).map_err(|e| {
-            let massless = matches!(&*e.kind, UrdfErrorKind::Model(ModelError::MasslessSubtree { .. }));
             let error = self.err("urdf", urdf, e.to_string());
-            if massless {
-                // scenes do not fuse joints: the robot's own file must say what holds the joint
-                error.hint("a joint that moves no mass cannot be simulated: make it `fixed` in the URDF")
-            } else {
-                error
+            match &*e.kind {
+                UrdfErrorKind::Model(ModelError::MasslessSubtree { .. }) => {
+                    // every joint that moves no mass, from the model built without the check
+                    let allowed = UrdfOptions { massless: Massless::Allow, ..options };
+                    let joints = load_urdf(&path, allowed).map(|m| quoted(&m.massless_joints())).unwrap_or_default();
+                    error.hint(format!(
+                        "a joint that moves no mass cannot be simulated: hold them with `lock = [{joints}]`"
+                    ))
+                }
+                UrdfErrorKind::BadInertia { .. } => error.hint(
+                    "`balance_inertia = true` replaces it by the nearest physical inertia (reported per link); if \
+                     the link need not move (a sensor, an antenna), `lock = [\"joint\"]` beside it holds the joint \
+                     that moves it",
+                ),
+                _ => error,
             }
         })?;
         for w in &model.warnings {
@@ -235,6 +267,84 @@ impl RobotReader<'_, '_> {
             self.warnings.push(self.src.warning(urdf.span.as_ref(), &self.at("urdf"), &text));
         }
         Ok(model)
+    }
+
+    /// `package_paths`: directories relative to the scene file, each an existing directory.
+    fn package_paths(&self, doc: &RobotDoc, scene_dir: &Path) -> Result<Vec<PathBuf>, SceneError> {
+        let Some(list) = &doc.package_paths else { return Ok(Vec::new()) };
+        let mut dirs = Vec::with_capacity(list.value.len());
+        for entry in &list.value {
+            let dir = scene_dir.join(&entry.value);
+            if !dir.is_dir() {
+                let span = entry.span.as_ref().or(list.span.as_ref());
+                return Err(self
+                    .src
+                    .error(span, self.at("package_paths"), format!("`{}` is not a directory", dir.display()))
+                    .got(format!("\"{}\"", entry.value))
+                    .hint(
+                        "each entry is a directory (relative to the scene file) that holds packages: \
+                           `package://NAME/…` is looked for in `DIR/NAME/…`",
+                    ));
+            }
+            dirs.push(dir);
+        }
+        Ok(dirs)
+    }
+
+    /// `lock`: each named joint held at its value in `q` (full layout); returns the reduced model
+    /// and its `q`.
+    fn lock(
+        &mut self,
+        lock: &Loc<Vec<Loc<String>>>,
+        model: &MultibodyModel,
+        q: &[f64],
+    ) -> Result<(MultibodyModel, Vec<f64>), SceneError> {
+        let mut names: Vec<&str> = Vec::with_capacity(lock.value.len());
+        for entry in &lock.value {
+            let joint = entry.value.as_str();
+            let span = entry.span.as_ref().or(lock.span.as_ref());
+            let error = |problem: String| self.src.error(span, self.at("lock"), problem);
+            let Some(j) = model.joint_index(joint) else {
+                let movable: Vec<&str> = model.bodies.iter().map(|b| b.joint.name.as_str()).collect();
+                let list = movable.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+                let fixed =
+                    model.frames.iter().any(|f| matches!(&f.origin, FrameOrigin::Fixed { joint: j, .. } if j == joint));
+                return Err(if fixed {
+                    error(format!("joint `{joint}` is fixed already: there is nothing to lock"))
+                } else {
+                    let e = error(format!("unknown joint `{joint}` (the URDF has no movable joint of that name)"));
+                    match nearest(joint, &movable) {
+                        Some(best) => e.hint(format!("did you mean `{best}`? (movable joints: {list})")),
+                        None => e.hint(format!("movable joints: {list}")),
+                    }
+                });
+            };
+            if model.bodies[j].joint.kind == JointKind::Floating {
+                return Err(error(format!("joint `{joint}` is the floating base: it cannot be locked"))
+                    .hint("`base = \"fixed\"` holds the base at `position` and `orientation`"));
+            }
+            if names.contains(&joint) {
+                return Err(error(format!("joint `{joint}` is locked twice")));
+            }
+            names.push(joint);
+        }
+        let reduced = reduced_model(model, &names, q).map_err(|e| {
+            let error = self.src.error(lock.span.as_ref(), self.at("lock"), e.to_string());
+            match &e {
+                LockError::Massless { joints } => {
+                    let all: Vec<&str> = names.iter().copied().chain(joints.iter().map(String::as_str)).collect();
+                    error.hint(format!(
+                        "a joint that moves no mass cannot be simulated: lock them too, `lock = [{}]`",
+                        quoted(&all)
+                    ))
+                }
+                _ => error,
+            }
+        })?;
+        let (q_map, _) = kept_coordinates(model, &reduced);
+        let q_reduced = q_map.iter().map(|&k| q[k]).collect();
+        self.locked = names.iter().map(|n| n.to_string()).collect();
+        Ok((reduced, q_reduced))
     }
 
     fn position(&self, doc: &RobotDoc) -> Result<DVec3, SceneError> {
@@ -297,6 +407,16 @@ impl RobotReader<'_, '_> {
         }
         let movable: Vec<&str> = model.bodies.iter().map(|b| b.joint.name.as_str()).collect();
         let list = movable.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+        if self.locked.iter().any(|l| l == joint) {
+            return Err(self
+                .src
+                .error(
+                    span,
+                    self.at(&format!("{what}.{joint}")),
+                    format!("joint `{joint}` is locked: it has no coordinates"),
+                )
+                .hint("a locked joint is held at its value in `q`; remove it from `lock` to move it"));
+        }
         let fixed = model.frames.iter().any(|f| matches!(&f.origin, FrameOrigin::Fixed { joint: j, .. } if j == joint));
         let problem = if fixed {
             format!("joint `{joint}` is fixed: it has no coordinates")
@@ -468,6 +588,11 @@ impl RobotReader<'_, '_> {
     }
 }
 
+/// `"a", "b"`: names as a TOML array's items.
+fn quoted(names: &[&str]) -> String {
+    names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+}
+
 /// The collision geometry of every robot whose `collision` is on (the default): its URDF
 /// `<collision>` shapes, self-collision when asked, and its `no_collide` pairs. A link is named
 /// `robot/link`; a body's `no_collide` may name one.
@@ -616,6 +741,10 @@ pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
             "off".to_string()
         }
     );
+    if !m.locked.is_empty() {
+        let list: Vec<String> = m.locked.iter().map(|(name, q)| format!("{name} at {}", nums(q))).collect();
+        let _ = writeln!(out, "  locked: {}", list.join(", "));
+    }
     for b in &m.bodies {
         let j = &b.joint;
         let (qi, vi) = (j.q_index, j.v_index);

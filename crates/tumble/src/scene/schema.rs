@@ -311,6 +311,11 @@ pub struct RobotDoc {
     pub pd: Option<Loc<JointTable<Loc<Table<PdDoc>>>>>,
     /// Replace a link inertia that is not physical by the nearest physical one (reported per link).
     pub balance_inertia: Option<Loc<bool>>,
+    /// Joints held at their initial value: the model reduced, their coordinates removed from `q` and `v`.
+    pub lock: Option<Loc<Vec<Loc<String>>>>,
+    /// Directories (relative to the scene file) that hold packages, searched for `package://NAME/`
+    /// after the URDF's parent directories.
+    pub package_paths: Option<Loc<Vec<Loc<String>>>>,
     /// Enforce the URDF `<limit lower upper>` of revolute and prismatic joints (default true).
     pub joint_limits: Option<Loc<bool>>,
     /// Clamp commanded joint forces (constant, PD, `set_torque`) to the URDF `effort` (default true).
