@@ -216,7 +216,8 @@ fn the_scene_key_balance_inertia() {
     let line = line_of(&text, "sensor_mount_link", "<inertia ");
     let scene_text = |key: &str| {
         format!(
-            "version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\n{key}\n",
+            // (the fixture directory holds the URDF without its meshes: no collision geometry)
+            "version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\ncollision = false\n{key}\n",
             urdf.to_str().unwrap()
         )
     };
