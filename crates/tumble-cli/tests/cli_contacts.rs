@@ -119,3 +119,28 @@ fn a_full_disk_for_the_contacts_is_exit_4_and_the_trajectory_is_kept() {
     let partial = fs::read_to_string(dir.path().join("t.csv.partial")).unwrap();
     assert!(!parse_csv(&partial).is_empty());
 }
+
+/// A robot's links in the contacts file, named `robot/link`: the quadruped of `scenes/quadruped.toml`
+/// stands on its four feet (`a` the ground, `b` the foot, normal up), whose normal forces carry its
+/// 4.6 kg at the end of the run.
+#[test]
+fn a_standing_robot_lists_its_feet_and_their_forces_carry_its_weight() {
+    let dir = tempfile::tempdir().unwrap();
+    tumble(dir.path())
+        .args(["run", &scene("quadruped.toml"), "--out", "q.csv", "--contacts", "c.jsonl", "--quiet"])
+        .assert()
+        .success();
+    let samples = lines(&dir.path().join("c.jsonl"));
+    let last = samples.last().unwrap()["contacts"].as_array().unwrap();
+    let mut feet: Vec<&str> = last.iter().map(|c| c["b"].as_str().unwrap()).collect();
+    feet.sort_unstable();
+    assert_eq!(feet, ["quad/FL_foot", "quad/FR_foot", "quad/HL_foot", "quad/HR_foot"]);
+    for c in last {
+        assert_eq!(c["a"].as_str(), Some("ground"));
+        assert_eq!(vec3(&c["normal"]), [0.0, 0.0, 1.0]);
+        assert!(c["depth"].as_f64().unwrap() < 1e-3);
+    }
+    let weight = 4.6 * 9.81;
+    let fz: f64 = last.iter().map(|c| vec3(&c["force"])[2]).sum();
+    assert!((fz / weight - 1.0).abs() < 5e-3, "the feet carry {fz} N, the weight is {weight} N");
+}
