@@ -98,7 +98,7 @@ fn random_bodies(seed: u64, n: usize) -> Vec<RigidBody> {
                 body.state.omega_body = rng.vec(3000.0);
             }
             if rng.chance(0.05) {
-                body.state.orientation = body.state.orientation * (1.0 + 5e-4);
+                body.state.orientation *= 1.0 + 5e-4;
             }
             body
         })
