@@ -14,6 +14,7 @@
 //! projecting `q` back onto the unit sphere ([`renormalize`]); for `rk4` and `dopri5`, which move `q`
 //! through ℝ⁴, that projection keeps their order.
 
+pub mod batch;
 pub mod dopri5;
 pub mod euler;
 pub mod rk4;

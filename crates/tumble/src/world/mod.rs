@@ -6,6 +6,7 @@ use crate::contact::{ContactEnergy, ContactSettings, ContactStage};
 use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
+mod batched;
 mod hash;
 mod profile;
 mod robots;
@@ -321,6 +322,9 @@ impl World {
     /// before the step in the same pass. On divergence, also the number of bodies stepped so far.
     fn integrate_free_bodies(&mut self, save: bool) -> Result<(), (usize, Diverged)> {
         let config = self.config;
+        if config.integrator == Integrator::SemiImplicitEuler {
+            return self.integrate_free_bodies_batched(save);
+        }
         for (index, (body, scratch)) in self.bodies.iter_mut().zip(self.scratch.iter_mut()).enumerate() {
             if body.fixed {
                 continue;

@@ -1,0 +1,274 @@
+//! Semi-implicit Euler on four bodies at once: the same equations as
+//! [`semi_implicit_euler_step`](super::euler::semi_implicit_euler_step), with each scalar of a body
+//! replaced by an `f64x4` holding that scalar for four bodies (structure of arrays in registers).
+//!
+//! Bit-identical to the scalar step: every lane performs the scalar step's IEEE operations in the
+//! same order (`+ − ×` only, no fused multiply-add, no reassociation: Rust never contracts), and the
+//! three places where the scalar step branches per body fall back to the scalar code for the lanes
+//! that take the rare branch:
+//! - the implicit gyroscopic solve, when the linearised step is not accepted
+//!   ([`finish_implicit_gyroscopic`]);
+//! - `quat_exp`, when a body turns by more than 0.2 rad in a step (`sin_cos`);
+//! - `renormalize`, when `|q|²` is further than 1e-4 from 1 (`normalize`).
+//!
+//! Only bodies whose loads do not depend on their orientation take this path ([`batchable`]);
+//! the others (body-frame forces, world-frame torques, point forces) keep the scalar step.
+//!
+//! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group of four is gathered
+//! into lanes, stepped and scattered back, so every reader sees the stepped state and a user may
+//! change any body between steps. Gather and scatter cost less than the arithmetic.
+
+use super::euler::finish_implicit_gyroscopic;
+use crate::body::RigidBody;
+use crate::math::{quat_exp, DQuat, DVec3};
+use crate::world::MAX_STATE_MAGNITUDE;
+use wide::f64x4;
+
+/// Bodies per batch.
+pub const LANES: usize = 4;
+
+/// Whether a body can take the batched step: it moves, and its loads do not depend on its
+/// orientation (gravity, world-frame forces, body-frame torques and damping only).
+#[inline]
+pub fn batchable(body: &RigidBody) -> bool {
+    !body.fixed && !body.loads.needs_rotation()
+}
+
+/// One scalar of four bodies, `f(bodies[k])` in lane `k`.
+#[inline(always)]
+fn gather(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> f64) -> f64x4 {
+    f64x4::new([f(bodies[0]), f(bodies[1]), f(bodies[2]), f(bodies[3])])
+}
+
+/// A 3-vector of four bodies.
+#[derive(Clone, Copy)]
+struct V3 {
+    x: f64x4,
+    y: f64x4,
+    z: f64x4,
+}
+
+impl V3 {
+    #[inline(always)]
+    fn gather(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> DVec3) -> Self {
+        V3 { x: gather(bodies, |b| f(b).x), y: gather(bodies, |b| f(b).y), z: gather(bodies, |b| f(b).z) }
+    }
+
+    /// `self · self`, summed as `DVec3::length_squared`: `(x x + y y) + z z`.
+    #[inline(always)]
+    fn length_squared(self) -> f64x4 {
+        self.x * self.x + self.y * self.y + self.z * self.z
+    }
+
+    /// `s self`, as `f64 * DVec3`.
+    #[inline(always)]
+    fn scale(self, s: f64x4) -> Self {
+        V3 { x: s * self.x, y: s * self.y, z: s * self.z }
+    }
+
+    /// `self * other` componentwise, as `DVec3 * DVec3`.
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        V3 { x: self.x * o.x, y: self.y * o.y, z: self.z * o.z }
+    }
+
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        V3 { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
+    }
+
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        V3 { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
+    }
+
+    #[inline(always)]
+    fn dot(self, o: Self) -> f64x4 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// As `DVec3::cross`.
+    #[inline(always)]
+    fn cross(self, o: Self) -> Self {
+        V3 { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
+    }
+
+    #[inline(always)]
+    fn lane(self, k: usize) -> DVec3 {
+        DVec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
+    }
+
+    #[inline(always)]
+    fn set_lane(&mut self, k: usize, v: DVec3) {
+        let set = |lanes: &mut f64x4, value: f64| {
+            let mut a = lanes.to_array();
+            a[k] = value;
+            *lanes = f64x4::new(a);
+        };
+        set(&mut self.x, v.x);
+        set(&mut self.y, v.y);
+        set(&mut self.z, v.z);
+    }
+}
+
+/// The lanes (bits `0..LANES`) where `mask` is set.
+#[inline(always)]
+fn bits(mask: f64x4) -> u32 {
+    mask.to_bitmask()
+}
+
+/// Advances the bodies `bodies[lanes[k]]`, `k < count`, by one semi-implicit Euler step of `h`
+/// seconds under the world's gravity `gravity_world` (m/s², world frame); lanes `count..` repeat
+/// lane 0 and are not written. Every body must be [`batchable`] and the lanes distinct.
+///
+/// Returns the lanes (bit `k`) whose new state fails the quick sanity test of the world's
+/// divergence check (a magnitude above `MAX_STATE_MAGNITUDE`, a NaN, or `|q|² > 4`): the caller names
+/// the quantity with the full check.
+pub fn semi_implicit_euler_x4(
+    bodies: &mut [RigidBody],
+    lanes: &[usize; LANES],
+    count: usize,
+    gravity_world: DVec3,
+    h: f64,
+) -> u32 {
+    debug_assert!((1..=LANES).contains(&count));
+    let lanes = &core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
+    let hv = f64x4::splat(h);
+    let group: &[&RigidBody; LANES] = &lanes.map(|index| &bodies[index]);
+
+    // parameters (constants of each body) and state
+    let mass = gather(group, |b| b.mass.mass);
+    let inv_mass = gather(group, |b| b.mass.inv_mass);
+    let inertia = V3::gather(group, |b| b.mass.inertia_body);
+    let inv_inertia = V3::gather(group, |b| b.mass.inv_inertia_body);
+    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`
+    let spread = gather(group, |b| {
+        let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
+        (i.max_element() - i.min_element()) * inv.max_element()
+    });
+    let gravity = V3::gather(group, |b| b.gravity(gravity_world));
+    let force_load = V3::gather(group, |b| b.loads.force_world);
+    let torque_load = V3::gather(group, |b| b.loads.torque_body);
+    let linear_damping = gather(group, |b| b.loads.linear_damping);
+    let angular_damping = gather(group, |b| b.loads.angular_damping);
+    let mut position = V3::gather(group, |b| b.state.position);
+    let mut velocity = V3::gather(group, |b| b.state.velocity);
+    let omega = V3::gather(group, |b| b.state.omega_body);
+    let q = [
+        gather(group, |b| b.state.orientation.x),
+        gather(group, |b| b.state.orientation.y),
+        gather(group, |b| b.state.orientation.z),
+        gather(group, |b| b.state.orientation.w),
+    ];
+
+    // resultant: f = m g + f_load − (c m) v ;  τ = τ_load − c (I ω)
+    let force = gravity.scale(mass).add(force_load).sub(velocity.scale(linear_damping * mass));
+    let torque = torque_load.sub(inertia.mul(omega).scale(angular_damping));
+    // v ← v + h f/m ;  x ← x + h v
+    velocity = velocity.add(force.scale(hv * inv_mass));
+    position = position.add(velocity.scale(hv));
+    // ω₁ = ω + h I⁻¹ τ
+    let w = omega.add(torque.scale(hv).mul(inv_inertia));
+
+    // I (ω' − ω₁) + h ω' × I ω' = 0, linearised: see `implicit_gyroscopic` for the derivation
+    let i = inertia;
+    let (a, b, c) = (hv * (i.z - i.y), hv * (i.x - i.z), hv * (i.y - i.x));
+    let residual = V3 { x: a * w.y * w.z, y: b * w.z * w.x, z: c * w.x * w.y };
+    let d0 = residual.mul(inv_inertia);
+    let n_d0 =
+        V3 { x: a * (w.z * d0.y + w.y * d0.z), y: b * (w.z * d0.x + w.x * d0.z), z: c * (w.y * d0.x + w.x * d0.y) };
+    let mut omega_new = w.sub(residual.sub(n_d0).mul(inv_inertia));
+    let (l_before, l_after) = (i.mul(w), i.mul(omega_new));
+    let round_off = f64x4::splat(1.0 + 4.0 * f64::EPSILON);
+    let kept = omega_new.dot(l_after).simd_le(w.dot(l_before) * round_off)
+        & l_after.length_squared().simd_le(l_before.length_squared() * round_off);
+    let small = (hv * hv * w.length_squared() * spread * spread).simd_le(f64x4::splat(0.05 * 0.05));
+    // the residual test only where the step is not small (the scalar `small || …`)
+    let converged = if bits(small) == (1 << LANES) - 1 {
+        small
+    } else {
+        let residual_after = l_after.sub(l_before).add(omega_new.cross(l_after).scale(hv));
+        small | residual_after.length_squared().simd_le(f64x4::splat(1e-6) * l_before.length_squared())
+    };
+    let rejected = !bits(converged & kept) & ((1 << LANES) - 1);
+    if rejected != 0 {
+        for k in (0..LANES).filter(|k| rejected & (1 << k) != 0) {
+            omega_new.set_lane(k, finish_implicit_gyroscopic(i.lane(k), w.lane(k), h));
+        }
+    }
+
+    // q ← q ⊗ exp(h ω'), exp from its Taylor series (`quat_exp`)
+    let phi = omega_new.scale(hv);
+    let x2 = f64x4::splat(0.25) * phi.length_squared();
+    let sinc = f64x4::splat(1.0)
+        + x2 * (f64x4::splat(-1.0 / 6.0)
+            + x2 * (f64x4::splat(1.0 / 120.0)
+                + x2 * (f64x4::splat(-1.0 / 5040.0) + x2 * f64x4::splat(1.0 / 362880.0))));
+    let cos = f64x4::splat(1.0)
+        + x2 * (f64x4::splat(-0.5)
+            + x2 * (f64x4::splat(1.0 / 24.0)
+                + x2 * (f64x4::splat(-1.0 / 720.0)
+                    + x2 * (f64x4::splat(1.0 / 40320.0) + x2 * f64x4::splat(-1.0 / 3628800.0)))));
+    let v = phi.scale(f64x4::splat(0.5) * sinc);
+    let mut e = [v.x, v.y, v.z, cos];
+    let large = !bits(x2.simd_lt(f64x4::splat(0.01))) & ((1 << LANES) - 1);
+    if large != 0 {
+        for k in (0..LANES).filter(|k| large & (1 << k) != 0) {
+            let exp = quat_exp(phi.lane(k));
+            for (component, value) in e.iter_mut().zip([exp.x, exp.y, exp.z, exp.w]) {
+                let mut a = component.to_array();
+                a[k] = value;
+                *component = f64x4::new(a);
+            }
+        }
+    }
+    // as `DQuat::mul_quat`
+    let ([x0, y0, z0, w0], [x1, y1, z1, w1]) = (q, e);
+    let mut q = [
+        w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
+        w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1,
+        w0 * z1 + x0 * y1 - y0 * x1 + z0 * w1,
+        w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
+    ];
+    // renormalise: one Newton step of |q|² = 1 (`renormalize`)
+    let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    let newton = f64x4::splat(0.5) * (f64x4::splat(3.0) - n2);
+    let near = (n2 - f64x4::splat(1.0)).abs().simd_lt(f64x4::splat(1e-4));
+    let q_unrenormalized = q;
+    for component in &mut q {
+        *component *= newton;
+    }
+    let far = !bits(near) & ((1 << LANES) - 1);
+
+    // the quick sanity test of `check_state`
+    let max2 = f64x4::splat(MAX_STATE_MAGNITUDE * MAX_STATE_MAGNITUDE);
+    let sane = position.length_squared().simd_le(max2)
+        & velocity.length_squared().simd_le(max2)
+        & omega_new.length_squared().simd_le(max2);
+    let mut insane = !bits(sane) & ((1 << LANES) - 1);
+
+    // scatter
+    let (p, v, o) = (position, velocity, omega_new);
+    let (p, v, o) = (
+        [p.x.to_array(), p.y.to_array(), p.z.to_array()],
+        [v.x.to_array(), v.y.to_array(), v.z.to_array()],
+        [o.x.to_array(), o.y.to_array(), o.z.to_array()],
+    );
+    let qa = q.map(|c| c.to_array());
+    let qu = q_unrenormalized.map(|c| c.to_array());
+    for (k, &index) in lanes.iter().enumerate().take(count) {
+        let s = &mut bodies[index].state;
+        s.position = DVec3::new(p[0][k], p[1][k], p[2][k]);
+        s.velocity = DVec3::new(v[0][k], v[1][k], v[2][k]);
+        s.omega_body = DVec3::new(o[0][k], o[1][k], o[2][k]);
+        s.orientation = if far & (1 << k) == 0 {
+            DQuat::from_xyzw(qa[0][k], qa[1][k], qa[2][k], qa[3][k])
+        } else {
+            DQuat::from_xyzw(qu[0][k], qu[1][k], qu[2][k], qu[3][k]).normalize()
+        };
+        if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
+            insane |= 1 << k;
+        }
+    }
+    insane & ((1 << count) - 1)
+}

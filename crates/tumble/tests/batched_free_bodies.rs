@@ -1,0 +1,251 @@
+//! The batched `semi_implicit_euler` path of `World::step` (four bodies per `f64x4`,
+//! `integrate::batch`) against the scalar per-body step (`advance_body`): bit-identical states over
+//! many steps on random bodies, the divergence check naming the first bad body in scene order and
+//! undoing the step, and no allocation per step.
+//!
+//! The allocator counts the allocations of each thread separately, so that the test harness's own
+//! threads do not disturb the count.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use tumble::body::{Frame, Loads, PointForce};
+use tumble::integrate::{advance_body, BodyRhs, Tolerances};
+use tumble::math::{quat_exp, DQuat, DVec3};
+use tumble::{Integrator, MassProperties, RigidBody, World, WorldConfig};
+
+struct Counting;
+
+thread_local! {
+    /// Allocations (and reallocations) made by this thread.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // `try_with`: the slot may be gone while the thread ends
+    let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// A small deterministic generator (xorshift).
+struct Rng(u64);
+
+impl Rng {
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+    }
+    fn vec(&mut self, r: f64) -> DVec3 {
+        DVec3::new(self.uniform(-r, r), self.uniform(-r, r), self.uniform(-r, r))
+    }
+    fn chance(&mut self, p: f64) -> bool {
+        self.uniform(0.0, 1.0) < p
+    }
+}
+
+/// `n` random bodies: random masses and principal moments (triangle inequality kept), states,
+/// gravity scales, loads (world forces, body torques, damping; one in eight with an
+/// orientation-dependent load, which takes the scalar step), one in ten fixed, one in twenty
+/// spinning at several radians per step (the implicit solve's continuation and `quat_exp`'s
+/// `sin_cos`), one in twenty with `|q|²` off by 1e-3 (exact normalisation).
+fn random_bodies(seed: u64, n: usize) -> Vec<RigidBody> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|i| {
+            let (a, b) = (rng.uniform(0.2, 3.0), rng.uniform(0.2, 3.0));
+            let c = rng.uniform((a - b).abs() + 0.05, a + b);
+            let mass = MassProperties::from_principal(rng.uniform(0.1, 10.0), DVec3::new(a, b, c)).unwrap();
+            let mut body = RigidBody::new(format!("body{i}"), mass);
+            body.state.position = rng.vec(10.0);
+            body.state.velocity = rng.vec(3.0);
+            body.state.orientation = quat_exp(rng.vec(3.0));
+            body.state.omega_body = rng.vec(5.0);
+            body.gravity_scale = rng.uniform(-1.0, 2.0);
+            body.loads = Loads {
+                force_world: rng.vec(2.0),
+                torque_body: rng.vec(1.0),
+                linear_damping: if rng.chance(0.5) { rng.uniform(0.0, 0.5) } else { 0.0 },
+                angular_damping: if rng.chance(0.5) { rng.uniform(0.0, 0.5) } else { 0.0 },
+                ..Loads::default()
+            };
+            if rng.chance(0.125) {
+                body.loads.force_body = rng.vec(1.0);
+                body.loads.point_forces.push(PointForce {
+                    point_body: rng.vec(0.5),
+                    force: rng.vec(1.0),
+                    frame: Frame::World,
+                });
+            }
+            body.fixed = rng.chance(0.1);
+            if rng.chance(0.05) {
+                body.state.omega_body = rng.vec(3000.0);
+            }
+            if rng.chance(0.05) {
+                body.state.orientation *= 1.0 + 5e-4;
+            }
+            body
+        })
+        .collect()
+}
+
+fn config() -> WorldConfig {
+    WorldConfig {
+        integrator: Integrator::SemiImplicitEuler,
+        dt: 1e-3,
+        gravity: DVec3::new(0.3, -0.2, -9.81),
+        ..Default::default()
+    }
+}
+
+/// One step of every free body with the scalar integrator, as `World::step` did before the
+/// batched path.
+fn scalar_step(bodies: &mut [RigidBody], config: &WorldConfig) {
+    for body in bodies.iter_mut().filter(|b| !b.fixed) {
+        let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: body.gravity(config.gravity) };
+        let mut hint = 0.0;
+        advance_body(config.integrator, Tolerances::default(), &rhs, &mut body.state, config.dt, &mut hint).unwrap();
+    }
+}
+
+fn bits(body: &RigidBody) -> [u64; 13] {
+    let s = &body.state;
+    let v = [
+        s.position.x,
+        s.position.y,
+        s.position.z,
+        s.orientation.x,
+        s.orientation.y,
+        s.orientation.z,
+        s.orientation.w,
+        s.velocity.x,
+        s.velocity.y,
+        s.velocity.z,
+        s.omega_body.x,
+        s.omega_body.y,
+        s.omega_body.z,
+    ];
+    v.map(f64::to_bits)
+}
+
+#[test]
+fn batched_semi_implicit_euler_is_bit_identical_to_the_scalar_step() {
+    // counts that leave 0..3 bodies in the last group
+    for (seed, n) in [(1, 1), (2, 3), (3, 4), (4, 7), (5, 64), (6, 201), (7, 1002)] {
+        let config = config();
+        let mut reference = random_bodies(seed, n);
+        let mut world = World::new(config, reference.clone());
+        for step in 0..300 {
+            world.step().unwrap();
+            scalar_step(&mut reference, &config);
+            for (a, b) in world.bodies.iter().zip(&reference) {
+                assert_eq!(
+                    bits(a),
+                    bits(b),
+                    "seed {seed}, n {n}, step {step}, body {}: {:?} vs {:?}",
+                    a.name,
+                    a.state,
+                    b.state
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn bodies_changed_between_steps_are_stepped_from_their_new_state() {
+    // the users' `world.bodies` stays the source of truth: edits between steps are seen
+    let config = config();
+    let mut reference = random_bodies(11, 37);
+    let mut world = World::new(config, reference.clone());
+    let mut rng = Rng(99);
+    for step in 0..100 {
+        let i = (rng.uniform(0.0, 37.0) as usize).min(36);
+        let kick = rng.vec(1.0);
+        world.bodies[i].state.velocity += kick;
+        reference[i].state.velocity += kick;
+        world.bodies[i].loads.torque_body = kick;
+        reference[i].loads.torque_body = kick;
+        world.step().unwrap();
+        scalar_step(&mut reference, &config);
+        for (a, b) in world.bodies.iter().zip(&reference) {
+            assert_eq!(bits(a), bits(b), "step {step}, body {}", a.name);
+        }
+    }
+}
+
+#[test]
+fn a_diverging_body_in_a_group_is_named_and_the_step_undone() {
+    let config = config();
+    for bad in [0, 5, 6, 9, 10] {
+        let mut bodies = random_bodies(21, 11);
+        for b in &mut bodies {
+            b.fixed = false;
+            b.loads.force_body = DVec3::ZERO;
+            b.loads.point_forces.clear();
+            b.state.omega_body = b.state.omega_body.clamp_length_max(5.0);
+            b.state.orientation = b.state.orientation.normalize();
+        }
+        // |v| jumps to 1e12 m/s in one step, |x| stays below 1e10 m
+        bodies[bad].loads.force_world = DVec3::new(1e15 * bodies[bad].mass.mass, 0.0, 0.0);
+        // a later body in the same group diverges too: the first one in scene order is named
+        if bad + 1 < bodies.len() {
+            bodies[bad + 1].state.position = DVec3::new(f64::NAN, 0.0, 0.0);
+        }
+        let mut world = World::new(config, bodies);
+        let before = world.bodies.clone();
+        let err = world.step().unwrap_err();
+        assert_eq!(err.body, format!("body{bad}"), "{err}");
+        assert!(err.quantity.contains("velocity"), "{err}");
+        assert_eq!(err.step, 1);
+        assert_eq!(world.steps(), 0);
+        for (a, b) in world.bodies.iter().zip(&before) {
+            assert_eq!(bits(a), bits(b), "body {} was not restored", a.name);
+        }
+    }
+}
+
+#[test]
+fn a_nan_is_named_when_no_other_body_diverges() {
+    let config = config();
+    let mut bodies = random_bodies(31, 9);
+    bodies[6].fixed = false;
+    bodies[6].loads = Loads::default();
+    bodies[6].state.omega_body = DVec3::new(f64::NAN, 0.0, 0.0);
+    bodies[6].state.orientation = DQuat::IDENTITY;
+    bodies[6].state.velocity = DVec3::ZERO;
+    bodies[6].state.position = DVec3::ZERO;
+    let mut world = World::new(config, bodies.clone());
+    let err = world.step().unwrap_err();
+    assert_eq!(err.body, "body6", "{err}");
+    for (a, b) in world.bodies.iter().zip(&bodies) {
+        assert_eq!(bits(a), bits(b), "body {} was not restored", a.name);
+    }
+}
+
+#[test]
+fn the_batched_step_allocates_nothing() {
+    let mut world = World::new(config(), random_bodies(41, 203));
+    world.step().unwrap();
+    let before = ALLOCATIONS.with(Cell::get);
+    for _ in 0..200 {
+        world.step().unwrap();
+    }
+    assert_eq!(ALLOCATIONS.with(Cell::get) - before, 0);
+}
