@@ -271,8 +271,7 @@ impl LinkStage {
                 Side::Link(l) => robots[self.colliders.links()[l].robot].material,
             };
             let (ma, mb) = (material(c.a), material(c.b));
-            let mu = (ma.friction.unwrap_or(settings.friction) * mb.friction.unwrap_or(settings.friction)).sqrt();
-            let e = ma.restitution.unwrap_or(settings.restitution).max(mb.restitution.unwrap_or(settings.restitution));
+            let (mu, e) = super::combine_materials(ma, mb, settings);
             let against_fixed = a == RowSide::Fixed || b == RowSide::Fixed;
             let softness = if against_fixed { soft_fixed } else { soft };
             let mut row = self.row(a, b, c, solver_bodies, positions, mu, e, softness);
@@ -283,14 +282,13 @@ impl LinkStage {
         }
         self.lambda_sums.clear();
         self.lambda_sums.resize(self.rows.len(), [0.0; 3]);
-        self.limit_rows(robots, settings, soft_fixed);
+        self.limit_rows(robots, soft_fixed);
     }
 
     /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
     /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row.
-    fn limit_rows(&mut self, robots: &[Robot], settings: &ContactSettings, soft: Softness) {
+    fn limit_rows(&mut self, robots: &[Robot], soft: Softness) {
         self.limit_rows.clear();
-        let _ = settings;
         for (r, robot) in robots.iter().enumerate() {
             if !self.robots[r].engaged {
                 continue;
@@ -803,10 +801,6 @@ fn mark_touched(robots: &mut [RobotSolve], bodies: &mut [SolverBody], row: &Row)
     }
 }
 
-/// Largest distance (m) between a contact point and the previous step's point of the same pair
-/// whose impulse it inherits when the feature ids do not match.
-const WARM_MATCH_DISTANCE: f64 = 0.02;
-
 /// The impulses a link contact inherits from the previous step (as for the free bodies' contacts).
 fn previous_impulse(previous: &[Previous], c: &LinkContact) -> Option<[f64; 3]> {
     let start = previous.partition_point(|p| (p.a, p.b) < (c.a, c.b));
@@ -816,7 +810,7 @@ fn previous_impulse(previous: &[Previous], c: &LinkContact) -> Option<[f64; 3]> 
             return Some(p.lambda);
         }
         let d = (p.point_world - c.point_world).length_squared();
-        if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
+        if d <= super::WARM_MATCH_DISTANCE * super::WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
             best = Some((d, p.lambda));
         }
     }

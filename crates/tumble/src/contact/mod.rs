@@ -496,7 +496,7 @@ fn softness(settings: &ContactSettings, dt: f64) -> (solver::Softness, solver::S
 
 /// Largest distance (m) between a contact point and the previous step's point of the same pair
 /// whose impulse it inherits when the feature ids do not match.
-const WARM_MATCH_DISTANCE: f64 = 0.02;
+pub(super) const WARM_MATCH_DISTANCE: f64 = 0.02;
 
 /// The accumulated impulses a contact inherits from the previous step: those of the point of the
 /// same pair with the same features (the normal impulse, and the friction impulse taken as it is in
@@ -520,8 +520,13 @@ fn previous_impulse(previous: &[Previous], c: &Contact) -> Option<[f64; 3]> {
 
 /// The pair's friction and restitution: `μ = √(μ_a μ_b)`, `e = max(e_a, e_b)`, defaults from `settings`.
 pub fn combine(a: &RigidBody, b: &RigidBody, settings: &ContactSettings) -> (f64, f64) {
-    let mu = |body: &RigidBody| body.material.friction.unwrap_or(settings.friction);
-    let e = |body: &RigidBody| body.material.restitution.unwrap_or(settings.restitution);
+    combine_materials(a.material, b.material, settings)
+}
+
+/// [`combine`] for two materials (a body's, or a robot's links').
+pub fn combine_materials(a: crate::body::Material, b: crate::body::Material, settings: &ContactSettings) -> (f64, f64) {
+    let mu = |m: crate::body::Material| m.friction.unwrap_or(settings.friction);
+    let e = |m: crate::body::Material| m.restitution.unwrap_or(settings.restitution);
     ((mu(a) * mu(b)).sqrt(), e(a).max(e(b)))
 }
 
