@@ -27,8 +27,8 @@
 //! principal moment, the triangle inequality violated, a tensor without mass) unless
 //! [`UrdfOptions::balance_inertia`] replaces them by the nearest physical one (one warning per
 //! link) or, for a positive-definite tensor that only violates the triangle inequality,
-//! [`UrdfOptions::keep_triangle_violations`] keeps it (one warning per link), and movable joints whose subtree has no mass unless [`Massless::Fuse`] holds them (one
-//! warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
+//! [`UrdfOptions::keep_triangle_violations`] keeps it (one warning per link), and movable joints
+//! whose subtree has no mass unless [`Massless::Fuse`] holds them (one warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
 //!
 //! Cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
 //! (a frame, like `ee_link` of UR5 or `panda_link8`), `mass > 0` with an all-zero tensor is a point
