@@ -64,6 +64,12 @@ pub struct RobotArgs {
     /// with one warning per joint).
     #[arg(long, value_name = "RULE", default_value = "error", value_parser = ["error", "fuse"])]
     pub massless: String,
+
+    /// Joints held fixed, the model reduced as a scene's `lock` does: `NAME` (held at 0) or
+    /// `NAME=VALUE` (rad or m), comma-separated or repeated. `q`, `v` and every output then follow
+    /// the reduced layout; a joint that moves no mass is allowed when it is locked.
+    #[arg(long, value_name = "JOINT[=VALUE]", value_delimiter = ',')]
+    pub lock: Vec<String>,
 }
 
 /// `tumble model`.

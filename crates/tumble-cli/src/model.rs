@@ -4,22 +4,83 @@ use crate::cli::{ModelArgs, RobotArgs};
 use crate::error::{Failure, Status};
 use crate::report::Stdout;
 use serde_json::{json, Value};
-use tumble::multibody::{load_urdf, ChildOrder, FrameOrigin, Massless, MultibodyModel, UrdfOptions};
+use tumble::multibody::{
+    load_urdf, reduced_model, ChildOrder, FrameOrigin, LockError, Massless, MultibodyModel, UrdfOptions,
+};
 
-/// Loads the robot named on the command line (exit 2 with the reader's message).
+/// Loads the robot named on the command line (exit 2 with the reader's message), reduced by
+/// `--lock` when it is given.
 pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
     let order = if args.joint_order == "name" { ChildOrder::JointName } else { ChildOrder::File };
-    load_urdf(
+    let massless = match (args.massless.as_str(), args.lock.is_empty()) {
+        ("fuse", _) => Massless::Fuse,
+        // with `--lock`, massless joints are allowed until the model is reduced (then checked)
+        (_, false) => Massless::Allow,
+        (_, true) => Massless::Error,
+    };
+    let model = load_urdf(
         &args.urdf,
         UrdfOptions {
             floating: args.floating,
             order,
             balance_inertia: args.balance_inertia,
-            massless: if args.massless == "fuse" { Massless::Fuse } else { Massless::Error },
+            massless,
             ..UrdfOptions::default()
         },
     )
-    .map_err(Failure::bad_input)
+    .map_err(Failure::bad_input)?;
+    if args.lock.is_empty() {
+        return Ok(model);
+    }
+    lock(&model, &args.lock)
+}
+
+/// `--lock NAME[=VALUE],…`: the model with those joints held at `VALUE` (0 when omitted), every
+/// other joint at its neutral value for the reduction (only the locked ones' values matter).
+fn lock(model: &MultibodyModel, entries: &[String]) -> Result<MultibodyModel, Failure> {
+    let movable: Vec<&str> = model.bodies.iter().map(|b| b.joint.name.as_str()).collect();
+    let mut q_full = model.neutral_configuration();
+    let mut names: Vec<&str> = Vec::with_capacity(entries.len());
+    for entry in entries {
+        let (name, value) = match entry.split_once('=') {
+            Some((name, value)) => (name.trim(), Some(value.trim())),
+            None => (entry.trim(), None),
+        };
+        let Some(j) = model.joint_index(name) else {
+            let fixed =
+                model.frames.iter().any(|f| matches!(&f.origin, FrameOrigin::Fixed { joint, .. } if joint == name));
+            return Err(Failure::bad_input(if fixed {
+                format!("--lock: joint `{name}` is fixed already: there is nothing to lock")
+            } else {
+                format!("--lock: unknown joint `{name}` (movable joints: {})", movable.join(", "))
+            }));
+        };
+        let joint = &model.bodies[j].joint;
+        if let Some(text) = value {
+            let x: f64 = text.parse().ok().filter(|x: &f64| x.is_finite()).ok_or_else(|| {
+                Failure::bad_input(format!(
+                    "--lock {entry}: the value must be a finite number (rad or m), got `{text}`"
+                ))
+            })?;
+            if joint.kind.nq() != 1 {
+                return Err(Failure::bad_input(format!(
+                    "--lock {entry}: a {} joint has {} coordinates; lock it without a value (held at its neutral \
+                     configuration)",
+                    joint.kind.name(),
+                    joint.kind.nq()
+                )));
+            }
+            q_full[joint.q_index] = x;
+        }
+        names.push(name);
+    }
+    reduced_model(model, &names, &q_full).map_err(|e| match &e {
+        LockError::Massless { joints } => Failure::bad_input(format!(
+            "--lock: {e}; lock them too: --lock {}",
+            names.iter().copied().chain(joints.iter().map(String::as_str)).collect::<Vec<_>>().join(",")
+        )),
+        _ => Failure::bad_input(format!("--lock: {e}")),
+    })
 }
 
 /// The layout as JSON: movable joints with their coordinates, fixed joints with `null` indices.
@@ -41,9 +102,14 @@ pub fn layout(model: &MultibodyModel) -> Value {
             })),
         }
     }
-    json!({
+    let mut layout = json!({
         "name": model.name, "nq": model.nq(), "nv": model.nv(), "total_mass": model.total_mass, "joints": joints,
-    })
+    });
+    if !model.locked.is_empty() {
+        let locked: Vec<Value> = model.locked.iter().map(|(name, q)| json!({"name": name, "q": q})).collect();
+        layout["locked"] = Value::Array(locked);
+    }
+    layout
 }
 
 fn table(model: &MultibodyModel, layout: &Value) -> String {
@@ -90,6 +156,10 @@ fn table(model: &MultibodyModel, layout: &Value) -> String {
     text.push_str(&line(&header.map(String::from)));
     for r in &rows {
         text.push_str(&line(r));
+    }
+    if !model.locked.is_empty() {
+        let list: Vec<String> = model.locked.iter().map(|(name, q)| format!("{name} at {q:?}")).collect();
+        text.push_str(&format!("locked: {}\n", list.join(", ")));
     }
     let meshes = model.meshes();
     if !meshes.is_empty() {

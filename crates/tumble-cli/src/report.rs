@@ -129,6 +129,11 @@ pub fn table(
         if lost > 0.0 && matches!(s.integrator.as_str(), "euler" | "semi_implicit_euler") {
             share = note(&share, "with the integrator's own energy error, about ½ m g dt |v|");
         }
+        // a robot's link contacts are booked (docs/multibody.md, robots in contact), its actuators'
+        // and joint damping's work is not
+        if lost > 0.0 && !s.robots.is_empty() {
+            share = note(&share, "with the work of the robots' actuators and joint damping, if any");
+        }
         row("energy balance", format!("E₀ − E − lost = {} J{share}", joules(balance)));
     }
     let kind = match format {

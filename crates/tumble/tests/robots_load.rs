@@ -2,9 +2,11 @@
 //! (committed unchanged under `tests/fixtures/robots/`). Without the flag, the error names the link
 //! (or joint) and its line; with `balance_inertia` the repaired inertia is physical and the nearest
 //! physical tensor, and the warning names the link; with `Massless::Fuse` a massless finger is held;
-//! the dynamics are finite.
+//! the dynamics are finite. In scenes, a positive-definite tensor that only violates the triangle
+//! inequality is a warning (PR2, and a camera-like link written here), one that is not positive
+//! definite an error whose hint names `balance_inertia` and `lock` (TIAGo, an antenna-like link).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use tumble::body::mass::symmetric_eigen;
 use tumble::math::{DMat3, DQuat, DVec3};
 use tumble::multibody::balance::{inertia_defect, nearest_physical};
@@ -206,34 +208,132 @@ fn round_off_and_limits_are_physical() {
     }
 }
 
-/// The scene key: `balance_inertia = true` loads PR2 with a warning naming the link; without it the
-/// error names the link, its URDF line and the key.
+/// A scene of one robot whose URDF is `urdf` (a path), without collision geometry, with `key`.
+fn robot_scene(urdf: &Path, key: &str) -> String {
+    // (the fixture directory holds the URDFs without their meshes: no collision geometry)
+    format!(
+        "version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"robot\"\nurdf = {:?}\ncollision = false\n{key}\n",
+        urdf.to_str().unwrap()
+    )
+}
+
+/// In a scene, PR2's sensor mount (principal moments that violate the triangle inequality, the
+/// tensor positive definite) loads with a warning naming the link, its URDF line and the defect; with
+/// `balance_inertia = true` the warning says it was balanced.
 #[test]
-fn the_scene_key_balance_inertia() {
+fn in_a_scene_a_triangle_inequality_violation_is_a_warning() {
     use tumble::scene::{self, Format};
     let urdf = fixture("pr2.urdf");
     let text = std::fs::read_to_string(&urdf).unwrap();
     let line = line_of(&text, "sensor_mount_link", "<inertia ");
-    let scene_text = |key: &str| {
-        format!(
-            // (the fixture directory holds the URDF without its meshes: no collision geometry)
-            "version = 1\n\n[world]\ndt = 0.001\n\n[[robot]]\nname = \"pr2\"\nurdf = {:?}\ncollision = false\n{key}\n",
-            urdf.to_str().unwrap()
-        )
-    };
     let origin = fixture("scene.toml");
-    let e = scene::from_str(&scene_text(""), origin.to_str().unwrap(), Format::Toml).map(|_| ()).unwrap_err();
-    let message = e.to_string();
-    assert!(message.contains("'sensor_mount_link'") && message.contains(&format!("pr2.urdf:{line}:")), "{message}");
-    assert!(message.contains("balance_inertia = true"), "{message}");
-    let loaded =
-        scene::from_str(&scene_text("balance_inertia = true"), origin.to_str().unwrap(), Format::Toml).unwrap();
+    let origin = origin.to_str().unwrap();
+    let loaded = scene::from_str(&robot_scene(&urdf, ""), origin, Format::Toml).unwrap_or_else(|e| panic!("{e}"));
+    let warning = loaded
+        .warnings
+        .iter()
+        .find(|w| w.contains("link 'sensor_mount_link': inertia kept as written"))
+        .unwrap_or_else(|| panic!("{:?}", loaded.warnings));
+    assert!(warning.contains(&format!("pr2.urdf:{line}:")), "{warning}");
+    assert!(warning.contains("triangle inequality") && warning.contains("balance_inertia = true"), "{warning}");
+    // the link's inertia is the file's: its moments still violate the inequality
+    let robot = &loaded.world.robots[0];
+    assert!(robot.model.nv() > 0);
+    let loaded = scene::from_str(&robot_scene(&urdf, "balance_inertia = true"), origin, Format::Toml).unwrap();
     assert!(
         loaded.warnings.iter().any(|w| w.contains("link 'sensor_mount_link': inertia balanced")),
         "{:?}",
         loaded.warnings
     );
-    assert!(scene::from_str(&scene_text("balance_inertia = false"), origin.to_str().unwrap(), Format::Toml).is_err());
+    assert!(!loaded.warnings.iter().any(|w| w.contains("inertia kept as written")), "{:?}", loaded.warnings);
+}
+
+/// TIAGo's antenna (a slightly negative principal moment: not positive definite) stays an error in
+/// a scene, naming the link, its URDF line, and in its hint `balance_inertia = true` and `lock`; with
+/// `balance_inertia = true` it loads.
+#[test]
+fn in_a_scene_an_inertia_that_is_not_positive_definite_is_an_error_naming_balance_inertia_and_lock() {
+    use tumble::scene::{self, Format};
+    let urdf = fixture("tiago_dual.urdf");
+    let text = std::fs::read_to_string(&urdf).unwrap();
+    let line = line_of(&text, "base_antenna_left_link", "<inertia ");
+    let origin = fixture("scene.toml");
+    let origin = origin.to_str().unwrap();
+    let e = scene::from_str(&robot_scene(&urdf, ""), origin, Format::Toml).map(|_| ()).unwrap_err();
+    let message = e.to_string();
+    assert!(message.contains("'base_antenna_left_link'"), "{message}");
+    assert!(message.contains(&format!("tiago_dual.urdf:{line}:")), "{message}");
+    assert!(message.contains("not positive semi-definite"), "{message}");
+    let hint = message.split("\nhint: ").nth(1).unwrap_or_else(|| panic!("no hint: {message}"));
+    assert!(hint.contains("`balance_inertia = true`") && hint.contains("`lock = ["), "{hint}");
+    let loaded = scene::from_str(&robot_scene(&urdf, "balance_inertia = true"), origin, Format::Toml);
+    assert!(loaded.is_ok(), "{}", loaded.map(|_| ()).unwrap_err());
+}
+
+/// Small URDFs written here: a camera-like link (moments 1e-5, 1e-5, 3e-5 kg·m²: the triangle
+/// inequality violated, positive definite) loads in a scene with a warning and keeps its tensor (the
+/// mass matrix stays positive definite and the robot falls as ABA says); an antenna-like link with
+/// a slightly negative moment, and a rod-like tensor that violates the inequality with a zero moment
+/// (positive semi-definite only), are errors. Outside scenes (`UrdfOptions::default()`, as
+/// `tumble model`), the camera stays an error.
+#[test]
+fn small_urdfs_camera_antenna_and_singular_rod() {
+    use tumble::scene::{self, Format};
+    let urdf = |ixx: f64, iyy: f64, izz: f64| {
+        format!(
+            "<robot name=\"r\">\n  <link name=\"base\"/>\n  <link name=\"arm\"><inertial><origin xyz=\"0.3 0 0\"/><mass value=\"1\"/>\
+             <inertia ixx=\"0.01\" iyy=\"0.02\" izz=\"0.02\"/></inertial></link>\n  <link name=\"sensor\"><inertial>\
+             <mass value=\"0.1\"/><inertia ixx=\"{ixx:e}\" iyy=\"{iyy:e}\" izz=\"{izz:e}\"/></inertial></link>\n  \
+             <joint name=\"hinge\" type=\"continuous\"><parent link=\"base\"/><child link=\"arm\"/><axis xyz=\"0 1 0\"/></joint>\n  \
+             <joint name=\"mount\" type=\"continuous\"><parent link=\"arm\"/><child link=\"sensor\"/><origin xyz=\"0.6 0 0\"/>\
+             <axis xyz=\"1 0 0\"/></joint>\n</robot>\n"
+        )
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let origin = dir.path().join("scene.toml");
+    let origin = origin.to_str().unwrap();
+    let write = |name: &str, text: String| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let camera = write("camera.urdf", urdf(1e-5, 1e-5, 3e-5));
+    let loaded = scene::from_str(&robot_scene(&camera, ""), origin, Format::Toml).unwrap_or_else(|e| panic!("{e}"));
+    let warning = loaded.warnings.iter().find(|w| w.contains("link 'sensor': inertia kept as written"));
+    let warning = warning.unwrap_or_else(|| panic!("{:?}", loaded.warnings));
+    assert!(warning.contains("camera.urdf:4:") && warning.contains("short by 33.333%"), "{warning}");
+    // the tensor is the file's: the mount joint's diagonal of M is the sensor's ixx exactly
+    let robot = &loaded.world.robots[0];
+    let model = &robot.model;
+    let mut ws = Workspace::new(model);
+    let q = vec![0.0; model.nq()];
+    let m = crba(model, &mut ws, &q).unwrap().clone();
+    let mount = model.bodies[model.joint_index("mount").unwrap()].joint.v_index;
+    assert!((m[(mount, mount)] - 1e-5).abs() <= 1e-18, "M[mount, mount] = {}", m[(mount, mount)]);
+    // positive definite: ABA is defined and agrees with M⁻¹ (τ − b)
+    let (v, tau) = (vec![0.3, -0.7], vec![0.0, 0.0]);
+    let mut b = vec![0.0; 2];
+    bias_forces(model, &mut ws, &q, &v, &mut b).unwrap();
+    let mut qdd = vec![0.0; 2];
+    aba(model, &mut ws, &q, &v, &tau, &mut qdd).unwrap();
+    for r in 0..2 {
+        let residual = m[(r, 0)] * qdd[0] + m[(r, 1)] * qdd[1] + b[r] - tau[r];
+        assert!(residual.abs() <= 1e-12 * (1.0 + b[r].abs()), "row {r}: M qdd + b − τ = {residual}");
+    }
+    // outside scenes the default is still an error
+    let e = load_urdf(&camera, UrdfOptions::default()).expect_err("camera");
+    assert!(matches!(*e.kind, UrdfErrorKind::BadInertia { .. }), "{e}");
+    for (name, (ixx, iyy, izz), defect) in [
+        ("antenna.urdf", (-1e-9, 1e-5, 1e-5), "not positive semi-definite"),
+        ("rod.urdf", (0.0, 1e-5, 3e-5), "triangle"),
+    ] {
+        let path = write(name, urdf(ixx, iyy, izz));
+        let e = scene::from_str(&robot_scene(&path, ""), origin, Format::Toml).map(|_| ()).unwrap_err();
+        let message = e.to_string();
+        assert!(message.contains(&format!("{name}:4:")) && message.contains("'sensor'"), "{message}");
+        assert!(message.contains(defect), "{message}");
+        assert!(message.contains("hint: `balance_inertia = true`") && message.contains("`lock = ["), "{message}");
+    }
 }
 
 /// Every URDF of example-robot-data 6.0.0, where the package is installed (the environment variable

@@ -167,6 +167,9 @@ struct RobotSolve {
     tau_c: Vec<f64>,
     struck: bool,
     touched: bool,
+    /// The kinetic energy this step's collisions took from the robot (J): `T(v₀) − T(v₀ + Δv)`,
+    /// `T(v) = ½ vᵀ M(q₀) v`.
+    impact_loss: f64,
 }
 
 /// The link contacts of a step and the buffers to resolve them (no allocation once grown).
@@ -187,6 +190,10 @@ pub struct LinkStage {
     /// Collisions resolved and kinetic energy they dissipated (J), since the start.
     pub impacts: u64,
     pub energy_lost: f64,
+    /// Mechanical energy (kinetic plus gravitational) the resting link contacts took from the robots
+    /// they held, since the start (J): per held step, `E(q₀, v₀ + Δv) − E(end)` with `Δv` the
+    /// step's collisions; booked by the world after each robot's step ([`Self::book_resting`]).
+    pub resting_energy_lost: f64,
 }
 
 impl LinkStage {
@@ -460,9 +467,24 @@ impl LinkStage {
         for r in &mut self.robots {
             if r.engaged {
                 r.struck = r.v != r.v0;
+                r.impact_loss = if r.struck { kinetic(&r.ws, &r.v0) - kinetic(&r.ws, &r.v) } else { 0.0 };
             }
         }
         any
+    }
+
+    /// The kinetic energy the collisions of this step took from robot `robot` (J; 0 when none
+    /// struck it).
+    pub fn impact_loss(&self, robot: usize) -> f64 {
+        self.robots.get(robot).filter(|r| r.engaged).map_or(0.0, |r| r.impact_loss)
+    }
+
+    /// Books the energy the resting contacts took from a robot they held this step: `energy_before`
+    /// its mechanical energy at the start of the step (J), `energy_after` at the end. The robot's
+    /// own collisions are taken out of it (they are in [`Self::energy_lost`]). The change also holds
+    /// the work of the robot's actuators and joint damping over the step, and its integrator's error.
+    pub fn book_resting(&mut self, robot: usize, energy_before: f64, energy_after: f64) {
+        self.resting_energy_lost += energy_before - self.impact_loss(robot) - energy_after;
     }
 
     /// The velocity of side `b` relative to side `a` at the row's point (m/s, world frame).
@@ -716,6 +738,7 @@ impl RobotSolve {
             tau_c: vec![0.0; nv],
             struck: false,
             touched: false,
+            impact_loss: 0.0,
         }
     }
 
@@ -736,9 +759,17 @@ impl RobotSolve {
         self.v.copy_from_slice(v);
         self.d.fill(0.0);
         self.dv.fill(0.0);
+        self.impact_loss = 0.0;
         self.engaged = true;
         true
     }
+}
+
+/// `T = ½ vᵀ M v` with the mass matrix of `ws` (J).
+fn kinetic(ws: &Workspace, v: &[f64]) -> f64 {
+    let m = &ws.mass_matrix;
+    let n = v.len();
+    0.5 * (0..n).map(|i| v[i] * (0..n).map(|j| m[(i, j)] * v[j]).sum::<f64>()).sum::<f64>()
 }
 
 /// The world velocity of a row side at the point (`r` the offset from a free body's centre of mass).

@@ -37,6 +37,22 @@ pub enum InertiaDefect {
     MasslessWithTensor { moments: [f64; 3] },
 }
 
+impl InertiaDefect {
+    /// Whether the defect leaves the tensor positive definite: the triangle inequality violated
+    /// while every principal moment stays above round-off (`1e-9` of the largest). Such a link still
+    /// has a positive-definite spatial inertia (a camera's or a sensor's inertia box written with one
+    /// moment too large), so the mass matrix of the robot stays positive definite.
+    pub fn is_positive_definite(&self) -> bool {
+        match self {
+            Self::TriangleInequality { moments, .. } => {
+                let largest = moments.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+                moments.iter().all(|&x| x > INERTIA_RELATIVE_TOLERANCE * largest)
+            }
+            Self::NotPositiveSemiDefinite { .. } | Self::MasslessWithTensor { .. } => false,
+        }
+    }
+}
+
 impl std::fmt::Display for InertiaDefect {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         match self {

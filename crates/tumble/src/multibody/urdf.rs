@@ -26,8 +26,9 @@
 //! are negative or not finite, inertias that are not physical ([`super::balance`]: a negative
 //! principal moment, the triangle inequality violated, a tensor without mass) unless
 //! [`UrdfOptions::balance_inertia`] replaces them by the nearest physical one (one warning per
-//! link), and movable joints whose subtree has no mass unless [`Massless::Fuse`] holds them (one
-//! warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
+//! link) or, for a positive-definite tensor that only violates the triangle inequality,
+//! [`UrdfOptions::keep_triangle_violations`] keeps it (one warning per link), and movable joints
+//! whose subtree has no mass unless [`Massless::Fuse`] holds them (one warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
 //!
 //! Cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
 //! (a frame, like `ee_link` of UR5 or `panda_link8`), `mass > 0` with an all-zero tensor is a point
@@ -127,6 +128,12 @@ pub struct UrdfOptions<'a> {
     /// ([`balance::nearest_physical`](super::balance::nearest_physical)), with one warning per link;
     /// without it such a link is an error.
     pub balance_inertia: bool,
+    /// Keep, with one warning per link, an inertia whose only defect is the triangle inequality and
+    /// whose tensor is positive definite (every principal moment above round-off): no rigid body has
+    /// such moments, but the link's spatial inertia is positive definite, so the mass matrix is and
+    /// the dynamics stay consistent. Without it (and without `balance_inertia`) such a link is an
+    /// error; a tensor that is not positive definite is an error either way.
+    pub keep_triangle_violations: bool,
     /// What to do with a movable joint whose subtree has no mass.
     pub massless: Massless,
     /// Directories that hold packages: `package://NAME/REST` is looked for as `DIR/NAME/REST` in
@@ -607,6 +614,15 @@ impl<'a, 'input> Parser<'a, 'input> {
         }
         // physical: the triangle inequality on the eigenvalues (which implies that they are ≥ 0)
         if let Some(defect) = inertia_defect(mass, tensor) {
+            if self.options.keep_triangle_violations && !self.options.balance_inertia && defect.is_positive_definite() {
+                let pos = self.doc.text_pos_at(node.range().start);
+                warnings.push(format!(
+                    "{}:{}:{}: link '{}': inertia kept as written: {}; its tensor is positive definite, so the \
+                     dynamics stay consistent (`balance_inertia = true` replaces it by the nearest physical one)",
+                    self.file, pos.row, pos.col, name, defect
+                ));
+                return Ok(RigidInertia::from_com(mass, com, rot * tensor * rot.transpose()));
+            }
             if !self.options.balance_inertia {
                 let at = if mass == 0.0 { mass_node } else { node };
                 return Err(self.error(at, UrdfErrorKind::BadInertia { link: name.into(), reason: defect.to_string() }));

@@ -10,6 +10,12 @@
 //! `pd`, the state, the outputs) speaks the reduced layout; naming a locked joint there is an error.
 //! `package_paths`: directories (relative to the scene) where `package://NAME/` is looked for after
 //! the URDF's parent directories ([`UrdfOptions::package_paths`]).
+//!
+//! Link inertias: a positive-definite tensor that only violates the triangle inequality (a camera's
+//! or a sensor's box written with one moment too large) loads with a warning naming the link and the
+//! defect ([`UrdfOptions::keep_triangle_violations`]): the mass matrix stays positive definite. A
+//! tensor that is not positive definite is an error whose hint names `balance_inertia = true` and
+//! `lock`; a massless moving subtree is an error whose hint names `lock`.
 
 use super::error::{nearest, num, nums, SceneError, Source};
 use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
@@ -239,6 +245,8 @@ impl RobotReader<'_, '_> {
         let options = UrdfOptions {
             floating,
             balance_inertia,
+            // a positive-definite tensor that violates only the triangle inequality: a warning
+            keep_triangle_violations: true,
             massless,
             package_paths: &package_paths,
             ..UrdfOptions::default()

@@ -287,14 +287,19 @@ impl World {
         self.first_contact.get(index).copied().flatten().map(|step| step as f64 * self.config.dt)
     }
 
-    /// Energy dissipated by contacts since the start (J).
+    /// Energy dissipated by contacts since the start (J): the bodies' and the robots' links'
+    /// (collisions; resting contact and friction).
     pub fn contact_energy(&self) -> ContactEnergy {
-        self.contact.energy
+        let links = &self.contact.links;
+        ContactEnergy {
+            collisions: self.contact.energy.collisions + links.energy_lost,
+            friction: self.contact.energy.friction + links.resting_energy_lost,
+        }
     }
 
-    /// Collisions resolved since the start.
+    /// Collisions resolved since the start, the links' included.
     pub fn contact_collisions(&self) -> u64 {
-        self.contact.impacts
+        self.contact.impacts + self.contact.links.impacts
     }
 
     /// The pairs of bodies that overlap deeply now (see [`crate::collision::Overlap`] for the

@@ -356,6 +356,8 @@ impl World {
         }
         for r in 0..self.robots.len() {
             let contact = self.contact.links.robot_change(r);
+            let held = matches!(contact, Some(crate::multibody::ContactChange::Held { .. }));
+            let energy_before = self.robots[r].energy();
             if let Err(quantity) = self.robots[r].step(method, dt, gravity, contact) {
                 for earlier in &mut self.robots[..r] {
                     earlier.undo();
@@ -366,6 +368,9 @@ impl World {
                     step: self.steps + 1,
                     time: (self.steps + 1) as f64 * dt,
                 });
+            }
+            if held {
+                self.contact.links.book_resting(r, energy_before, self.robots[r].energy());
             }
         }
         Ok(())
