@@ -1,0 +1,143 @@
+//! Four `f64` lanes for the batched step ([`super::batch`]), two ways:
+//! - `wide::f64x4`: portable; two SSE2 registers in the default `x86-64` build, one AVX register when
+//!   the build enables AVX (`-C target-cpu=native`);
+//! - [`Avx`] (x86-64 only): one AVX register, whatever the build; used only inside functions compiled
+//!   with `#[target_feature(enable = "avx2")]` and called after `is_x86_feature_detected!("avx2")`.
+//!
+//! Both perform the IEEE operations `+ − ×` lane by lane, as the scalar code does (no fused
+//! multiply-add), so the results are the same bits either way. A mask is a lane value with all bits
+//! set (true) or clear (false); a comparison with a NaN is false.
+
+use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+use wide::f64x4;
+
+/// Four `f64` lanes and the operations the batched step needs.
+pub(crate) trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + BitAnd<Output = Self> + BitOr<Output = Self>
+{
+    /// `x` in every lane.
+    fn splat(x: f64) -> Self;
+    /// Lane `k` from `a[k]`.
+    fn new(a: [f64; 4]) -> Self;
+    /// Lane `k` into `a[k]`.
+    fn to_array(self) -> [f64; 4];
+    /// The mask of `self <= other`.
+    fn le(self, other: Self) -> Self;
+    /// The mask of `self < other`.
+    fn lt(self, other: Self) -> Self;
+    /// `|self|`, lane by lane.
+    fn abs(self) -> Self;
+    /// Bit `k` set where lane `k` of the mask is true.
+    fn bitmask(self) -> u32;
+}
+
+impl Lanes for f64x4 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        f64x4::splat(x)
+    }
+    #[inline(always)]
+    fn new(a: [f64; 4]) -> Self {
+        f64x4::new(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        f64x4::to_array(self)
+    }
+    #[inline(always)]
+    fn le(self, other: Self) -> Self {
+        self.simd_le(other)
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> Self {
+        self.simd_lt(other)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64x4::abs(self)
+    }
+    #[inline(always)]
+    fn bitmask(self) -> u32 {
+        self.to_bitmask()
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx::Avx;
+
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod avx {
+    use super::Lanes;
+    use core::arch::x86_64::*;
+    use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+
+    /// Four lanes in one AVX register.
+    ///
+    /// Safety: every method runs AVX instructions. The type is private to the batched step, whose only
+    /// use of it is inside a `#[target_feature(enable = "avx2")]` function entered after
+    /// `is_x86_feature_detected!("avx2")`; the methods are `#[inline(always)]` so that they are
+    /// compiled into that function.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx(__m256d);
+
+    macro_rules! binary {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    // SAFETY: see the type's documentation
+                    Avx(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    binary!(Add, add, _mm256_add_pd);
+    binary!(Sub, sub, _mm256_sub_pd);
+    binary!(Mul, mul, _mm256_mul_pd);
+    binary!(BitAnd, bitand, _mm256_and_pd);
+    binary!(BitOr, bitor, _mm256_or_pd);
+
+    impl Lanes for Avx {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn new(a: [f64; 4]) -> Self {
+            // SAFETY: see the type's documentation; `a` is four readable f64
+            Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0.0; 4];
+            // SAFETY: see the type's documentation; `a` is four writable f64
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            // ordered, quiet: false where either lane is a NaN, as the scalar `<=`
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // clear the sign bit, as `f64::abs`
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn bitmask(self) -> u32 {
+            // SAFETY: see the type's documentation
+            unsafe { _mm256_movemask_pd(self.0) as u32 }
+        }
+    }
+}
