@@ -52,11 +52,6 @@ struct V3<L> {
 }
 
 impl<L: Lanes> V3<L> {
-    #[inline(always)]
-    fn gather(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> DVec3) -> Self {
-        V3 { x: gather(bodies, |b| f(b).x), y: gather(bodies, |b| f(b).y), z: gather(bodies, |b| f(b).z) }
-    }
-
     /// `self · self`, summed as `DVec3::length_squared`: `(x x + y y) + z z`.
     #[inline(always)]
     fn length_squared(self) -> L {
@@ -171,29 +166,45 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
     let group: &[&RigidBody; LANES] = &lanes.map(|index| &bodies[index]);
 
     // parameters (constants of each body) and state
-    let mass = gather::<L>(group, |b| b.mass.mass);
-    let inv_mass = gather::<L>(group, |b| b.mass.inv_mass);
-    let inertia = V3::gather(group, |b| b.mass.inertia_body);
-    let inv_inertia = V3::gather(group, |b| b.mass.inv_inertia_body);
-    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`
+    // four rows of each body, transposed into lanes (rows of adjacent fields: a load each)
+    let [mass, ix, iy, iz] = L::transpose(group.map(|b| {
+        let i = b.mass.inertia_body;
+        L::new([b.mass.mass, i.x, i.y, i.z])
+    }));
+    let [inv_mass, jx, jy, jz] = L::transpose(group.map(|b| {
+        let j = b.mass.inv_inertia_body;
+        L::new([b.mass.inv_mass, j.x, j.y, j.z])
+    }));
+    let [fx, fy, fz, linear_damping] = L::transpose(group.map(|b| {
+        let f = b.loads.force_world;
+        L::new([f.x, f.y, f.z, b.loads.linear_damping])
+    }));
+    let [tx, ty, tz, angular_damping] = L::transpose(group.map(|b| {
+        let t = b.loads.torque_body;
+        L::new([t.x, t.y, t.z, b.loads.angular_damping])
+    }));
+    let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
+    let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
+    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic` (scalar: `f64::max` and `min` on NaNs)
     let spread = gather::<L>(group, |b| {
         let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
         (i.max_element() - i.min_element()) * inv.max_element()
     });
-    let gravity = V3::gather(group, |b| b.gravity(gravity_world));
-    let force_load = V3::gather(group, |b| b.loads.force_world);
-    let torque_load = V3::gather(group, |b| b.loads.torque_body);
-    let linear_damping = gather::<L>(group, |b| b.loads.linear_damping);
-    let angular_damping = gather::<L>(group, |b| b.loads.angular_damping);
-    let mut position = V3::gather(group, |b| b.state.position);
-    let mut velocity = V3::gather(group, |b| b.state.velocity);
-    let omega = V3::gather(group, |b| b.state.omega_body);
-    let q = [
-        gather::<L>(group, |b| b.state.orientation.x),
-        gather::<L>(group, |b| b.state.orientation.y),
-        gather::<L>(group, |b| b.state.orientation.z),
-        gather::<L>(group, |b| b.state.orientation.w),
-    ];
+    // g_body = s g, as `RigidBody::gravity`
+    let gravity_scale = gather::<L>(group, |b| b.gravity_scale);
+    let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
+        .scale(gravity_scale);
+    let s = group.map(|b| &b.state);
+    let [px, py, pz, qx] = L::transpose(s.map(|s| L::new([s.position.x, s.position.y, s.position.z, s.orientation.x])));
+    let [qy, qz, qw, vx] =
+        L::transpose(s.map(|s| L::new([s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x])));
+    let [vy, vz, wx, wy] =
+        L::transpose(s.map(|s| L::new([s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y])));
+    let wz = L::new(s.map(|s| s.omega_body.z));
+    let mut position = V3 { x: px, y: py, z: pz };
+    let mut velocity = V3 { x: vx, y: vy, z: vz };
+    let omega = V3 { x: wx, y: wy, z: wz };
+    let q = [qx, qy, qz, qw];
 
     // resultant: f = m g + f_load − (c m) v ;  τ = τ_load − c (I ω)
     let force = gravity.scale(mass).add(force_load).sub(velocity.scale(linear_damping * mass));
@@ -276,29 +287,33 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
     let max2 = L::splat(MAX_STATE_MAGNITUDE * MAX_STATE_MAGNITUDE);
     let sane =
         position.length_squared().le(max2) & velocity.length_squared().le(max2) & omega_new.length_squared().le(max2);
-    let mut insane = !sane.bitmask() & ((1 << LANES) - 1);
+    // |q|² of the stored quaternion, summed as `DQuat::length_squared` (the far lanes are redone)
+    let q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    let mut insane = (!sane.bitmask() | (!q2.le(L::splat(4.0)).bitmask() & !far)) & ((1 << LANES) - 1);
 
-    // scatter
+    // scatter: the same rows, transposed back
     let (p, v, o) = (position, velocity, omega_new);
-    let (p, v, o) = (
-        [p.x.to_array(), p.y.to_array(), p.z.to_array()],
-        [v.x.to_array(), v.y.to_array(), v.z.to_array()],
-        [o.x.to_array(), o.y.to_array(), o.z.to_array()],
-    );
-    let qa = q.map(|c| c.to_array());
-    let qu = q_unrenormalized.map(|c| c.to_array());
+    let rows_a = L::transpose([p.x, p.y, p.z, q[0]]).map(L::to_array);
+    let rows_b = L::transpose([q[1], q[2], q[3], v.x]).map(L::to_array);
+    let rows_c = L::transpose([v.y, v.z, o.x, o.y]).map(L::to_array);
+    let wz = o.z.to_array();
     for (k, &index) in lanes.iter().enumerate().take(count) {
         let s = &mut bodies[index].state;
-        s.position = DVec3::new(p[0][k], p[1][k], p[2][k]);
-        s.velocity = DVec3::new(v[0][k], v[1][k], v[2][k]);
-        s.omega_body = DVec3::new(o[0][k], o[1][k], o[2][k]);
-        s.orientation = if far & (1 << k) == 0 {
-            DQuat::from_xyzw(qa[0][k], qa[1][k], qa[2][k], qa[3][k])
-        } else {
-            DQuat::from_xyzw(qu[0][k], qu[1][k], qu[2][k], qu[3][k]).normalize()
-        };
-        if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
-            insane |= 1 << k;
+        let ([a0, a1, a2, a3], [b0, b1, b2, b3], [c0, c1, c2, c3]) = (rows_a[k], rows_b[k], rows_c[k]);
+        s.position = DVec3::new(a0, a1, a2);
+        s.orientation = DQuat::from_xyzw(a3, b0, b1, b2);
+        s.velocity = DVec3::new(b3, c0, c1);
+        s.omega_body = DVec3::new(c2, c3, wz[k]);
+    }
+    // exact normalisation where |q|² was far from 1 (rare)
+    if far != 0 {
+        let qu = q_unrenormalized.map(|c| c.to_array());
+        for (k, &index) in lanes.iter().enumerate().take(count).filter(|&(k, _)| far & (1 << k) != 0) {
+            let s = &mut bodies[index].state;
+            s.orientation = DQuat::from_xyzw(qu[0][k], qu[1][k], qu[2][k], qu[3][k]).normalize();
+            if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
+                insane |= 1 << k;
+            }
         }
     }
     insane & ((1 << count) - 1)

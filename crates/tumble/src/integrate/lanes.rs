@@ -29,6 +29,13 @@ pub(crate) trait Lanes:
     fn abs(self) -> Self;
     /// Bit `k` set where lane `k` of the mask is true.
     fn bitmask(self) -> u32;
+    /// The transpose of a 4×4 block: lane `j` of `rows[k]` goes to lane `k` of the result's `j`.
+    /// Four rows read from four bodies become four quantities in lanes, and back.
+    #[inline(always)]
+    fn transpose(rows: [Self; 4]) -> [Self; 4] {
+        let r = rows.map(Self::to_array);
+        core::array::from_fn(|j| Self::new([r[0][j], r[1][j], r[2][j], r[3][j]]))
+    }
 }
 
 impl Lanes for f64x4 {
@@ -138,6 +145,23 @@ mod avx {
         fn bitmask(self) -> u32 {
             // SAFETY: see the type's documentation
             unsafe { _mm256_movemask_pd(self.0) as u32 }
+        }
+        #[inline(always)]
+        fn transpose(rows: [Self; 4]) -> [Self; 4] {
+            let [r0, r1, r2, r3] = rows.map(|r| r.0);
+            // SAFETY: see the type's documentation
+            unsafe {
+                // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
+                let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
+                let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
+                // low halves together give columns 0 and 1, high halves columns 2 and 3
+                [
+                    Avx(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+                ]
+            }
         }
     }
 }
