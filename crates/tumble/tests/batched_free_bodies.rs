@@ -223,6 +223,22 @@ fn bodies_changed_between_steps_are_stepped_from_their_new_state() {
         reference[i].state.velocity += kick;
         world.bodies[i].loads.torque_body = kick;
         reference[i].loads.torque_body = kick;
+        // every parameter the four-lane step reads, changed on another body
+        let j = (rng.uniform(0.0, 37.0) as usize).min(36);
+        let (a, b) = (rng.uniform(0.2, 3.0), rng.uniform(0.2, 3.0));
+        let c = rng.uniform((a - b).abs() + 0.05, a + b);
+        let mass = MassProperties::from_principal(rng.uniform(0.1, 10.0), DVec3::new(a, b, c)).unwrap();
+        let (force, scale) = (rng.vec(2.0), rng.uniform(-1.0, 2.0));
+        let (linear, angular) = (rng.uniform(0.0, 0.5), rng.uniform(0.0, 0.5));
+        let fixed = rng.chance(0.2);
+        for body in [&mut world.bodies[j], &mut reference[j]] {
+            body.mass = mass;
+            body.loads.force_world = force;
+            body.loads.linear_damping = linear;
+            body.loads.angular_damping = angular;
+            body.gravity_scale = scale;
+            body.fixed = fixed;
+        }
         world.step().unwrap();
         scalar_step(&mut reference, &config);
         for (a, b) in world.bodies.iter().zip(&reference) {

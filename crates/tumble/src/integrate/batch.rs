@@ -1,6 +1,8 @@
 //! Semi-implicit Euler on four bodies at once: the same equations as
 //! [`semi_implicit_euler_step`](super::euler::semi_implicit_euler_step), with each scalar of a body
-//! replaced by an `f64x4` holding that scalar for four bodies (structure of arrays in registers).
+//! replaced by four lanes holding that scalar for four bodies (structure of arrays in registers):
+//! one AVX register where the CPU has AVX2 (detected at run time, the kernel compiled with
+//! `#[target_feature(enable = "avx2")]`), `wide::f64x4` otherwise ([`super::lanes`]).
 //!
 //! Bit-identical to the scalar step: every lane performs the scalar step's IEEE operations in the
 //! same order (`+ − ×` only, no fused multiply-add, no reassociation: Rust never contracts), and the
@@ -16,7 +18,13 @@
 //!
 //! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group of four is gathered
 //! into lanes, stepped and scattered back, so every reader sees the stepped state and a user may
-//! change any body between steps. Gather and scatter cost less than the arithmetic.
+//! change any body between steps. Gather and scatter go by rows of four adjacent fields (`m, I`;
+//! `1/m, I⁻¹`; `f_load, c_lin`; `τ_load, c_ang`; the state's 13 numbers in three rows and one),
+//! each row a load, four rows of four bodies turned into four lanes by one 4×4 transpose.
+//!
+//! No copy of the constant parameters is kept between steps: `World::bodies` is a public field
+//! that any reader may change, so a copy would have to be checked against the bodies each step,
+//! reading the same memory as the gather (see docs/integrators.md for the measured ceiling).
 
 use super::euler::finish_implicit_gyroscopic;
 #[cfg(target_arch = "x86_64")]
