@@ -9,6 +9,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use tumble::body::{Frame, Loads, PointForce};
+use tumble::integrate::batch::{batchable, semi_implicit_euler_x4, semi_implicit_euler_x4_portable, LANES};
 use tumble::integrate::{advance_body, BodyRhs, Tolerances};
 use tumble::math::{quat_exp, DQuat, DVec3};
 use tumble::{Integrator, MassProperties, RigidBody, World, WorldConfig};
@@ -168,6 +169,46 @@ fn batched_semi_implicit_euler_is_bit_identical_to_the_scalar_step() {
     }
 }
 
+/// A four-lane step: `semi_implicit_euler_x4` or its portable twin.
+type Kernel = fn(&mut [RigidBody], &[usize; LANES], usize, DVec3, f64) -> u32;
+
+/// The four-lane kernel `kernel` applied directly to every batchable body of `bodies` (groups of up
+/// to four in order; the others take the scalar step), as `World::step` drives it.
+fn kernel_step(kernel: Kernel, bodies: &mut [RigidBody], config: &WorldConfig) {
+    let lanes: Vec<usize> = (0..bodies.len()).filter(|&i| batchable(&bodies[i])).collect();
+    for group in lanes.chunks(LANES) {
+        let mut indices = [group[0]; LANES];
+        indices[..group.len()].copy_from_slice(group);
+        assert_eq!(kernel(bodies, &indices, group.len(), config.gravity, config.dt), 0);
+    }
+    for body in bodies.iter_mut().filter(|b| !b.fixed && !batchable(b)) {
+        let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: body.gravity(config.gravity) };
+        let mut hint = 0.0;
+        advance_body(config.integrator, Tolerances::default(), &rhs, &mut body.state, config.dt, &mut hint).unwrap();
+    }
+}
+
+#[test]
+fn the_portable_and_the_dispatched_kernels_give_the_scalar_bits() {
+    // the dispatched kernel runs AVX lanes where the CPU has AVX2, the portable one `wide::f64x4`
+    // lanes (SSE2 in the default build): both must reproduce the scalar step
+    for (seed, n) in [(51, 5), (52, 6), (53, 7), (54, 203)] {
+        let config = config();
+        let mut reference = random_bodies(seed, n);
+        let mut portable = reference.clone();
+        let mut dispatched = reference.clone();
+        for step in 0..200 {
+            scalar_step(&mut reference, &config);
+            kernel_step(semi_implicit_euler_x4_portable, &mut portable, &config);
+            kernel_step(semi_implicit_euler_x4, &mut dispatched, &config);
+            for ((a, b), c) in portable.iter().zip(&dispatched).zip(&reference) {
+                assert_eq!(bits(a), bits(c), "portable, seed {seed}, step {step}, body {}", a.name);
+                assert_eq!(bits(b), bits(c), "dispatched, seed {seed}, step {step}, body {}", b.name);
+            }
+        }
+    }
+}
+
 #[test]
 fn bodies_changed_between_steps_are_stepped_from_their_new_state() {
     // the users' `world.bodies` stays the source of truth: edits between steps are seen
@@ -182,6 +223,22 @@ fn bodies_changed_between_steps_are_stepped_from_their_new_state() {
         reference[i].state.velocity += kick;
         world.bodies[i].loads.torque_body = kick;
         reference[i].loads.torque_body = kick;
+        // every parameter the four-lane step reads, changed on another body
+        let j = (rng.uniform(0.0, 37.0) as usize).min(36);
+        let (a, b) = (rng.uniform(0.2, 3.0), rng.uniform(0.2, 3.0));
+        let c = rng.uniform((a - b).abs() + 0.05, a + b);
+        let mass = MassProperties::from_principal(rng.uniform(0.1, 10.0), DVec3::new(a, b, c)).unwrap();
+        let (force, scale) = (rng.vec(2.0), rng.uniform(-1.0, 2.0));
+        let (linear, angular) = (rng.uniform(0.0, 0.5), rng.uniform(0.0, 0.5));
+        let fixed = rng.chance(0.2);
+        for body in [&mut world.bodies[j], &mut reference[j]] {
+            body.mass = mass;
+            body.loads.force_world = force;
+            body.loads.linear_damping = linear;
+            body.loads.angular_damping = angular;
+            body.gravity_scale = scale;
+            body.fixed = fixed;
+        }
         world.step().unwrap();
         scalar_step(&mut reference, &config);
         for (a, b) in world.bodies.iter().zip(&reference) {

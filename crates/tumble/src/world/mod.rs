@@ -254,7 +254,8 @@ impl World {
     /// or a robot link with one.
     fn contacts_possible(&self) -> bool {
         self.config.contact.enabled
-            && (self.bodies.iter().any(|b| !b.fixed && b.shape.is_some()) || !self.contact.links.colliders.is_empty())
+            // the shape first: a body without one is settled by the one field
+            && (self.bodies.iter().any(|b| b.shape.is_some() && !b.fixed) || !self.contact.links.colliders.is_empty())
     }
 
     /// Sizes the per-body scratch; saves every state now unless the integration will (`now`).

@@ -1,0 +1,167 @@
+//! Four `f64` lanes for the batched step ([`super::batch`]), two ways:
+//! - `wide::f64x4`: portable; two SSE2 registers in the default `x86-64` build, one AVX register when
+//!   the build enables AVX (`-C target-cpu=native`);
+//! - [`Avx`] (x86-64 only): one AVX register, whatever the build; used only inside functions compiled
+//!   with `#[target_feature(enable = "avx2")]` and called after `is_x86_feature_detected!("avx2")`.
+//!
+//! Both perform the IEEE operations `+ − ×` lane by lane, as the scalar code does (no fused
+//! multiply-add), so the results are the same bits either way. A mask is a lane value with all bits
+//! set (true) or clear (false); a comparison with a NaN is false.
+
+use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+use wide::f64x4;
+
+/// Four `f64` lanes and the operations the batched step needs.
+pub(crate) trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + BitAnd<Output = Self> + BitOr<Output = Self>
+{
+    /// `x` in every lane.
+    fn splat(x: f64) -> Self;
+    /// Lane `k` from `a[k]`.
+    fn new(a: [f64; 4]) -> Self;
+    /// Lane `k` into `a[k]`.
+    fn to_array(self) -> [f64; 4];
+    /// The mask of `self <= other`.
+    fn le(self, other: Self) -> Self;
+    /// The mask of `self < other`.
+    fn lt(self, other: Self) -> Self;
+    /// `|self|`, lane by lane.
+    fn abs(self) -> Self;
+    /// Bit `k` set where lane `k` of the mask is true.
+    fn bitmask(self) -> u32;
+    /// The transpose of a 4×4 block: lane `j` of `rows[k]` goes to lane `k` of the result's `j`.
+    /// Four rows read from four bodies become four quantities in lanes, and back.
+    #[inline(always)]
+    fn transpose(rows: [Self; 4]) -> [Self; 4] {
+        let r = rows.map(Self::to_array);
+        core::array::from_fn(|j| Self::new([r[0][j], r[1][j], r[2][j], r[3][j]]))
+    }
+}
+
+impl Lanes for f64x4 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        f64x4::splat(x)
+    }
+    #[inline(always)]
+    fn new(a: [f64; 4]) -> Self {
+        f64x4::new(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        f64x4::to_array(self)
+    }
+    #[inline(always)]
+    fn le(self, other: Self) -> Self {
+        self.simd_le(other)
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> Self {
+        self.simd_lt(other)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64x4::abs(self)
+    }
+    #[inline(always)]
+    fn bitmask(self) -> u32 {
+        self.to_bitmask()
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx::Avx;
+
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod avx {
+    use super::Lanes;
+    use core::arch::x86_64::*;
+    use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+
+    /// Four lanes in one AVX register.
+    ///
+    /// Safety: every method runs AVX instructions. The type is private to the batched step, whose only
+    /// use of it is inside a `#[target_feature(enable = "avx2")]` function entered after
+    /// `is_x86_feature_detected!("avx2")`; the methods are `#[inline(always)]` so that they are
+    /// compiled into that function.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx(__m256d);
+
+    macro_rules! binary {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    // SAFETY: see the type's documentation
+                    Avx(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    binary!(Add, add, _mm256_add_pd);
+    binary!(Sub, sub, _mm256_sub_pd);
+    binary!(Mul, mul, _mm256_mul_pd);
+    binary!(BitAnd, bitand, _mm256_and_pd);
+    binary!(BitOr, bitor, _mm256_or_pd);
+
+    impl Lanes for Avx {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn new(a: [f64; 4]) -> Self {
+            // SAFETY: see the type's documentation; `a` is four readable f64
+            Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0.0; 4];
+            // SAFETY: see the type's documentation; `a` is four writable f64
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            // ordered, quiet: false where either lane is a NaN, as the scalar `<=`
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // clear the sign bit, as `f64::abs`
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn bitmask(self) -> u32 {
+            // SAFETY: see the type's documentation
+            unsafe { _mm256_movemask_pd(self.0) as u32 }
+        }
+        #[inline(always)]
+        fn transpose(rows: [Self; 4]) -> [Self; 4] {
+            let [r0, r1, r2, r3] = rows.map(|r| r.0);
+            // SAFETY: see the type's documentation
+            unsafe {
+                // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
+                let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
+                let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
+                // low halves together give columns 0 and 1, high halves columns 2 and 3
+                [
+                    Avx(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+                ]
+            }
+        }
+    }
+}
