@@ -229,7 +229,9 @@ impl World {
         let contacts = self.contacts_possible();
         self.save_states(contacts);
         if contacts {
-            let pool = self.threads.pool(self.config.threads);
+            // a small world is not worth the threads (nor their start)
+            let pool =
+                if self.bodies.len() >= threads::MIN_BODIES { self.threads.pool(self.config.threads) } else { None };
             self.contact.colliders_mut(&self.bodies).set_thread_pool(pool);
             let lead = self.config.integrator.position_lead();
             self.contact.resolve(

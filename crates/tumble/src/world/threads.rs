@@ -6,13 +6,17 @@
 //! results are gathered in pair order, so the contacts, and every number after them, are the same
 //! bit for bit for any number of threads (`tests/golden_hash.rs`).
 //!
-//! The pool is built at the first step that needs it and kept while the count stays the same; a
-//! cloned world shares it. A world stepped from inside another rayon pool (many worlds stepped in
-//! parallel) does its collision detection on the caller's thread: one level of parallelism is
-//! enough, and nesting would only oversubscribe the cores.
+//! The pool is built at the first step of a world of at least [`MIN_BODIES`] bodies and kept while
+//! the count stays the same; a cloned world shares it. A world stepped from inside another rayon
+//! pool (many worlds stepped in parallel) does its collision detection on the caller's thread: one
+//! level of parallelism is enough, and nesting would only oversubscribe the cores.
 
 use super::World;
 use std::sync::Arc;
+
+/// Worlds with fewer bodies than this detect their contacts on the caller's thread, and build no
+/// pool: their few pairs are done before the threads would have started.
+pub(super) const MIN_BODIES: usize = 64;
 
 /// The pool and the thread count it was built for.
 #[derive(Debug, Clone, Default)]
