@@ -1,8 +1,9 @@
 //! Runs the contact scenes in tumble and in Rapier, single-threaded, side by side: wall time per step,
 //! the ratio, and the stability of the pyramid (the largest displacement of a body after the run).
 //!
-//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [SCENE.toml ...]`
-//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5 repetitions).
+//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [--threads N] [SCENE.toml ...]`
+//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5 repetitions, tumble on
+//! one thread; `--threads N` gives tumble's collision detection N threads, Rapier stays on one).
 //!
 //! The machine's speed drifts (other builds share its cores), so each repetition runs the three
 //! engines one after the other — Rapier, tumble, and tumble with its manifolds made afresh at every
@@ -186,13 +187,21 @@ fn main() {
         });
         args.drain(at..at + 2);
     }
+    let mut threads = 1;
+    if let Some(at) = args.iter().position(|a| a == "--threads") {
+        threads = args.get(at + 1).and_then(|n| n.parse().ok()).unwrap_or_else(|| {
+            eprintln!("--threads takes a number ≥ 0");
+            std::process::exit(2);
+        });
+        args.drain(at..at + 2);
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let scenes: Vec<String> = if args.is_empty() {
         ["scenes/pyramid.toml", "scenes/balls.toml"].iter().map(|s| root.join(s).display().to_string()).collect()
     } else {
         args
     };
-    println!("{steps} steps each, single-threaded, median of {reps} interleaved repetitions");
+    println!("{steps} steps each, Rapier single-threaded, tumble on {threads} thread(s), median of {reps} interleaved repetitions");
     let mut results = Vec::new();
     for path in scenes {
         let scene = match tumble::scene::load(Path::new(&path)) {
@@ -202,7 +211,8 @@ fn main() {
                 std::process::exit(2);
             }
         };
-        let world = scene.world;
+        let mut world = scene.world;
+        world.set_threads(threads);
         let (mut rapier, mut tumble, mut before) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..reps {
             rapier.push(run_rapier(&world, steps));

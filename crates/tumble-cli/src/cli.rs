@@ -139,6 +139,11 @@ pub struct RunArgs {
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub sample_every: Option<u64>,
 
+    /// Threads of the collision detection (overrides [world] threads): 0 for one per core, 1 for
+    /// none but the main thread. The results are the same bit for bit for any number.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+
     /// Trajectory file: FILE.csv or FILE.jsonl [default: out/<scene name>.csv, out/demo.csv for the demo]
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,

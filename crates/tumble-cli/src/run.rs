@@ -137,7 +137,7 @@ impl Plan {
     }
 }
 
-/// Applies `--duration`, `--dt`, `--integrator`, `--sample-every` to the scene's `[world]` and
+/// Applies `--duration`, `--dt`, `--integrator`, `--sample-every`, `--threads` to the scene's `[world]` and
 /// validates the result, naming the flag (or the scene) of a bad setting.
 fn apply_overrides(scene: &mut Scene, args: &RunArgs) -> Result<(), Failure> {
     let config = &mut scene.world.config;
@@ -153,6 +153,9 @@ fn apply_overrides(scene: &mut Scene, args: &RunArgs) -> Result<(), Failure> {
     if let Some(k) = args.sample_every {
         config.sample_every = k;
     }
+    if let Some(n) = args.threads {
+        config.threads = n;
+    }
     config.validate().map_err(|e| {
         // the flag behind the bad setting, and its value
         let flag = match e.field {
@@ -160,6 +163,7 @@ fn apply_overrides(scene: &mut Scene, args: &RunArgs) -> Result<(), Failure> {
             "duration" if args.duration.is_some() => Some(("--duration", e.value.clone())),
             "duration" => args.dt.map(|dt| ("--dt", dt.to_string())),
             "sample_every" if args.sample_every.is_some() => Some(("--sample-every", e.value.clone())),
+            "threads" if args.threads.is_some() => Some(("--threads", e.value.clone())),
             _ => None,
         };
         match flag {

@@ -131,6 +131,43 @@ fn a_gravity_scale_that_is_not_finite_is_exit_2_naming_the_field() {
     }
 }
 
+/// `[world] threads`: an integer ≥ 0; anything else is exit 2 naming the file, line, column and
+/// key; `--threads` overrides it and is checked the same way; the trajectory does not depend on it.
+#[test]
+fn the_threads_setting_is_checked_and_changes_no_number() {
+    let dir = tempfile::tempdir().unwrap();
+    for (value, expected) in [("-2", "t.toml:3:11: world.threads: must be an integer ≥ 0"), ("1.5", "t.toml:3:")] {
+        fs::write(dir.path().join("t.toml"), format!("version = 1\n[world]\nthreads = {value}\n")).unwrap();
+        tumble(dir.path())
+            .args(["run", "t.toml"])
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(predicate::str::starts_with(format!("error: {expected}")));
+    }
+    fs::write(dir.path().join("t.toml"), "version = 1\n[world]\nthreads = 5000\n").unwrap();
+    tumble(dir.path()).args(["run", "t.toml"]).assert().code(2).stderr(contains("world.threads: must be at most 1024"));
+    tumble(dir.path())
+        .args(["run", "--threads", "5000"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::starts_with("error: --threads: must be at most 1024"));
+    tumble(dir.path()).args(["run", "--threads", "-1"]).assert().code(2);
+    // the balls on one and on two threads: the same trajectory, byte for byte
+    let balls = scenes_dir().join("balls.toml");
+    for threads in ["1", "2"] {
+        tumble(dir.path())
+            .arg("run")
+            .arg(&balls)
+            .args(["--duration", "1", "-q", "--threads", threads, "--out", &format!("b{threads}.csv")])
+            .assert()
+            .success();
+    }
+    let one = fs::read(dir.path().join("b1.csv")).unwrap();
+    assert!(one.len() > 1000);
+    assert_eq!(one, fs::read(dir.path().join("b2.csv")).unwrap());
+}
+
 #[test]
 fn flags_override_the_world_table() {
     let dir = tempfile::tempdir().unwrap();

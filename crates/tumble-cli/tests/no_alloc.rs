@@ -125,11 +125,13 @@ fn the_run_loop_allocates_nothing_per_step_with_a_locked_robot() {
 }
 
 /// The same for a contact scene with its contacts on: allocations over `steps` steps of
-/// `scenes/NAME.toml`, every step written, the contacts file (`--contacts`) too.
-fn contact_allocations(name: &str, steps: u64) -> usize {
+/// `scenes/NAME.toml`, every step written, the contacts file (`--contacts`) too, with the collision
+/// detection on `threads` threads (0: one per core).
+fn contact_allocations_on(name: &str, steps: u64, threads: usize) -> usize {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenes/{name}.toml"));
     let mut world = tumble::scene::load(&path).unwrap().world;
     assert!(world.config.contact.enabled);
+    world.set_threads(threads);
     world.config.duration = steps as f64 * world.config.dt;
     world.config.sample_every = 1;
     let mut writer = TrajectoryWriter::new(std::io::sink(), Format::Csv, &world).unwrap();
@@ -141,6 +143,11 @@ fn contact_allocations(name: &str, steps: u64) -> usize {
     let after = allocations_so_far();
     assert!(matches!(outcome.stop, Stop::Completed));
     after - before
+}
+
+/// [`contact_allocations_on`] on one thread.
+fn contact_allocations(name: &str, steps: u64) -> usize {
+    contact_allocations_on(name, steps, 1)
 }
 
 /// The 210-box pyramid (`scenes/pyramid.toml`: box–box and box–plane manifolds kept per pair, the
@@ -165,4 +172,24 @@ fn the_run_loop_allocates_nothing_per_step_with_robots_in_contact() {
     let short = contact_allocations("chain", 2500);
     let long = contact_allocations("chain", 3500);
     assert_eq!(short, long, "chain: {short} allocations for 2500 steps, {long} for 3500");
+}
+
+/// On two threads the calling thread allocates almost nothing per step: the pool is built at the
+/// first step, and the jobs are handed to it through rayon's injector queue, which allocates one
+/// block of 63 slots every 63 jobs (one job per step for the pyramid's narrow phase, 780 pairs; two
+/// for the balls, whose sweep of 1,005 boxes is shared out too). Nothing else: the extra allocations
+/// of a longer run are at most one per 63 jobs. (The counter sees the calling thread only; the pool's
+/// workers are not counted.) On one thread no rayon code runs: nothing at all (the tests above).
+#[test]
+fn the_run_loop_allocates_only_rayons_queue_blocks_on_two_threads() {
+    for (scene, short_steps, long_steps, jobs_per_step) in [("pyramid", 100, 600, 1), ("balls", 200, 400, 2)] {
+        let short = contact_allocations_on(scene, short_steps, 2);
+        let long = contact_allocations_on(scene, long_steps, 2);
+        let blocks = ((long_steps - short_steps) * jobs_per_step).div_ceil(63) + 1;
+        assert!(
+            long >= short && long - short <= blocks as usize,
+            "{scene}, 2 threads: {short} allocations for {short_steps} steps, {long} for {long_steps} \
+             (at most {blocks} more expected)"
+        );
+    }
 }

@@ -7,16 +7,24 @@
 //! printed by the failure into the table below and say in the commit why the numbers moved.
 //!
 //! `final_hash` takes a function that configures the world before the run, so that a test can run a
-//! scene with other settings (1, 2, 4 threads) and compare the hashes.
+//! scene with other settings and compare the hashes: each scene is run with 1, 2 and 4 threads
+//! (`World::set_threads`), and all three must give the golden value — the collision detection
+//! shares its work among the threads but gathers it in the same order, so no bit may move.
 
 use std::path::Path;
 use tumble::World;
 
-/// Steps of each run: 5 s at `dt = 1/60`, past the pyramid's settling and the balls' landing.
-const STEPS: u64 = 300;
+/// `(scene, steps, golden hash of the state after that many steps)`: the pyramid and the balls 5 s
+/// at `dt = 1/60`, past the pyramid's settling and the balls' landing; the quadruped 0.4 s at
+/// `dt = 1e-3`, past its feet's landing (link contacts on the floor).
+const GOLDEN: [(&str, u64, u64); 3] = [
+    ("pyramid", 300, 0xf31c_0214_e8ff_c24d),
+    ("balls", 300, 0x7dd2_4454_3f7c_0cad),
+    ("quadruped", 400, 0x6e62_0081_2b7f_11ff),
+];
 
-/// `(scene, golden hash of the state after STEPS steps)`.
-const GOLDEN: [(&str, u64); 2] = [("pyramid", 0xf31c_0214_e8ff_c24d), ("balls", 0x7dd2_4454_3f7c_0cad)];
+/// The thread counts every scene is run with.
+const THREADS: [usize; 3] = [1, 2, 4];
 
 /// The hash of the scene's state after `steps` steps, the world configured by `configure` first.
 fn final_hash(scene: &str, steps: u64, configure: impl FnOnce(&mut World)) -> u64 {
@@ -30,16 +38,23 @@ fn final_hash(scene: &str, steps: u64, configure: impl FnOnce(&mut World)) -> u6
 }
 
 fn check(scene: &str) {
-    let golden = GOLDEN.iter().find(|(s, _)| *s == scene).expect("a golden value").1;
-    let first = final_hash(scene, STEPS, |_| {});
-    let second = final_hash(scene, STEPS, |_| {});
-    assert_eq!(first, second, "{scene}: two runs of {STEPS} steps differ ({first:#018x}, {second:#018x})");
+    let &(_, steps, golden) = GOLDEN.iter().find(|(s, _, _)| *s == scene).expect("a golden value");
+    let first = final_hash(scene, steps, |w| w.set_threads(1));
+    let second = final_hash(scene, steps, |w| w.set_threads(1));
+    assert_eq!(first, second, "{scene}: two runs of {steps} steps differ ({first:#018x}, {second:#018x})");
     assert_eq!(
         first, golden,
-        "{scene}: the state after {STEPS} steps hashes to {first:#018x}, the golden value is {golden:#018x}. \
+        "{scene}: the state after {steps} steps hashes to {first:#018x}, the golden value is {golden:#018x}. \
          If the physics changed on purpose, set the golden value of `{scene}` in \
          crates/tumble/tests/golden_hash.rs to {first:#018x} and say why in the commit."
     );
+    for threads in THREADS {
+        let hash = final_hash(scene, steps, |w| w.set_threads(threads));
+        assert_eq!(
+            hash, golden,
+            "{scene}: with {threads} threads the state hashes to {hash:#018x}, not {golden:#018x}"
+        );
+    }
 }
 
 #[test]
@@ -50,6 +65,25 @@ fn pyramid_matches_its_golden_hash() {
 #[test]
 fn balls_match_their_golden_hash() {
     check("balls");
+}
+
+#[test]
+fn quadruped_matches_its_golden_hash() {
+    check("quadruped");
+}
+
+/// A world asked for several threads uses them (the pool is really there: the tests above compare
+/// something), and one thread means one.
+#[test]
+fn the_thread_setting_is_kept() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/pyramid.toml");
+    let mut world = tumble::scene::load(&path).unwrap().world;
+    world.set_threads(3);
+    assert_eq!(world.threads(), 3);
+    world.set_threads(1);
+    assert_eq!(world.threads(), 1);
+    world.set_threads(0);
+    assert!(world.threads() >= 1);
 }
 
 /// The per-stage timing observes the step without changing it.

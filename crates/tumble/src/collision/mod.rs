@@ -11,10 +11,12 @@
 //!    plane → `HalfSpace` (outward normal body +z), convex → `ConvexPolyhedron`, compound →
 //!    `Compound` of its parts; a mesh → `TriMesh` on a fixed body, else the `Compound` of its convex
 //!    decomposition when it has one, else its convex hull ([`parry_shape`]).
-//! 2. **Broad phase**: sort and sweep along world x over each body's *swept* bounding box (its box
-//!    at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
-//!    ½|g_body| dt²`, `ρ` the bounding radius, `g_body` the body's gravity `gravity_scale · g`). Pairs of fixed bodies are never tested; planes (unbounded)
-//!    are paired with every free body. Cost `O(n log n + k)` for `k` overlapping boxes.
+//! 2. **Broad phase** (module `broad`): sort and sweep over each body's *swept* bounding box (its
+//!    box at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
+//!    ½|g_body| dt²`, `ρ` the bounding radius, `g_body` the body's gravity `gravity_scale · g`),
+//!    along the axis of the widest spread of the boxes, by an insertion sort of the last step's
+//!    order. Pairs of fixed bodies are never tested; planes (unbounded) are paired with every free
+//!    body. Cost `O(n + swaps + k)` for `k` boxes overlapping along the axis.
 //! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
 //!    equal to the two bodies' sweeps, giving up to four points with their signed distance. A pair
 //!    of convex shapes (the common case) takes one convex–convex manifold, kept from step to step
@@ -23,18 +25,24 @@
 //!    or a triangle mesh takes parry's composite manifolds (one per pair of touching sub-shapes,
 //!    module `composite`), with parry's workspace kept per pair from step to step.
 //!
+//! With a thread pool (the world's `threads`), the narrow phase and the sweep share their pairs out
+//! in chunks and gather the results in pair order (module `parallel`): the contacts are the same
+//! bit for bit for any number of threads.
+//!
 //! Frames: every output is in the world frame. A body's shape is placed by its `world_from_user`
 //! pose (shapes are given in the user's body axes, centred on the centre of mass).
 //!
 //! References: parry's `contact_manifolds`; D. Baraff, "Dynamic simulation of non-penetrating rigid
 //! bodies" (1992), ch. 6 (sort and sweep).
 
+mod broad;
 mod overlap;
 pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
 mod composite;
 mod hull;
 pub mod links;
 mod pairs;
+mod parallel;
 pub use pairs::{REUSE_FRACTION, REUSE_MARGIN};
 
 pub use hull::{
@@ -44,7 +52,7 @@ pub use hull::{
 
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
-use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose;
 use parry3d_f64::shape::{SharedShape, TriMeshFlags};
 
@@ -96,7 +104,11 @@ pub struct Colliders {
     excluded: Vec<(usize, usize)>,
     aabbs: Vec<Aabb>,
     sweeps: Vec<f64>,
+    /// The bodies with a box, sorted along the sweep axis (kept: the next sort starts from it).
     order: Vec<usize>,
+    /// The sweep axis (0, 1, 2: x, y, z) and the boxes in sorted order (module `broad`).
+    axis: usize,
+    sorted: Vec<broad::SweepBox>,
     pairs: Vec<(usize, usize)>,
     /// The manifold of each pair of convex shapes, kept across steps (module `pairs`).
     manifolds: pairs::PairManifolds,
@@ -106,6 +118,9 @@ pub struct Colliders {
     composite: Vec<bool>,
     /// parry's manifolds and workspace of each pair with a composite shape, kept across steps.
     composite_pairs: composite::CompositePairs,
+    /// The world's thread pool (`None`: one thread) and the buffers of its chunks (module `parallel`).
+    pool: Option<std::sync::Arc<rayon::ThreadPool>>,
+    chunks: parallel::Chunks,
 }
 
 impl std::fmt::Debug for Colliders {
@@ -175,11 +190,15 @@ impl Colliders {
             aabbs: Vec::new(),
             sweeps: Vec::new(),
             order: Vec::new(),
+            axis: 0,
+            sorted: Vec::new(),
             pairs: Vec::new(),
             manifolds: pairs::PairManifolds::default(),
             reuse_fraction: REUSE_FRACTION,
             composite: Vec::new(),
             composite_pairs: composite::CompositePairs::default(),
+            pool: None,
+            chunks: parallel::Chunks::default(),
         };
         c.rebuild(bodies);
         c
@@ -194,6 +213,7 @@ impl Colliders {
         self.composite.clear();
         self.composite_pairs.clear();
         self.manifolds.clear();
+        self.order.clear();
         for (i, body) in bodies.iter().enumerate() {
             let Some(shape) = &body.shape else {
                 self.shapes.push(None);
@@ -220,6 +240,19 @@ impl Colliders {
     /// step, as before the manifolds were kept).
     pub fn set_reuse_fraction(&mut self, fraction: f64) {
         self.reuse_fraction = fraction.max(0.0);
+    }
+
+    /// Runs the narrow phase (and the broad phase's sweep) on `pool`'s threads, or on the caller's
+    /// alone for `None`; the contacts are the same bit for bit either way.
+    pub fn set_thread_pool(&mut self, pool: Option<&std::sync::Arc<rayon::ThreadPool>>) {
+        let same = match (&self.pool, pool) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            self.pool = pool.cloned();
+        }
     }
 
     /// Whether the bodies' shapes match what was built (same count).
@@ -279,17 +312,27 @@ impl Colliders {
         self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
         let broad = clock.lap();
         let pairs = std::mem::take(&mut self.pairs);
-        let (mut convex, mut reused) = (0, 0);
-        self.manifolds.begin_step();
-        for &(i, j) in &pairs {
-            if self.composite[i] || self.composite[j] {
-                self.narrow_phase_composite(bodies, i, j, out);
-            } else {
-                convex += 1;
-                reused += u64::from(self.narrow_phase(bodies, i, j, out));
+        let mut manifolds = std::mem::take(&mut self.manifolds);
+        manifolds.begin_step();
+        let (convex, reused) = match self.pool.clone() {
+            Some(pool) if pairs.len() >= parallel::MIN_PAIRS => {
+                self.narrow_phase_parallel(&pool, bodies, &pairs, &mut manifolds, out)
             }
-        }
-        self.manifolds.end_step();
+            _ => {
+                let (mut convex, mut reused) = (0, 0);
+                for &(i, j) in &pairs {
+                    if self.composite[i] || self.composite[j] {
+                        self.narrow_phase_composite(bodies, i, j, out);
+                    } else {
+                        convex += 1;
+                        reused += u64::from(self.narrow_phase(bodies, manifolds.entry((i, j)), out));
+                    }
+                }
+                (convex, reused)
+            }
+        };
+        manifolds.end_step();
+        self.manifolds = manifolds;
         self.pairs = pairs;
         self.composite_pairs.end_step();
         if let Some(p) = profile {
@@ -301,70 +344,11 @@ impl Colliders {
         }
     }
 
-    /// Sort and sweep along world x over the swept boxes; fills `self.pairs`.
-    fn broad_phase(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64) {
-        let n = bodies.len().min(self.shapes.len());
-        self.aabbs.clear();
-        self.sweeps.clear();
-        self.order.clear();
-        self.pairs.clear();
-        // ½ |g| dt², times each body's |gravity_scale|
-        let fall = 0.5 * gravity.length() * dt * dt;
-        for i in 0..n {
-            let b = &bodies[i];
-            let sweep = if b.fixed {
-                0.0
-            } else {
-                (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt
-                    + fall * b.gravity_scale.abs()
-            };
-            self.sweeps.push(sweep + 0.5 * slop);
-            let aabb = match &self.shapes[i] {
-                Some(s) if !self.planes.contains(&i) => {
-                    let pose = self.pose(bodies, i);
-                    s.compute_aabb(&pose).loosened(sweep + 0.5 * slop)
-                }
-                _ => Aabb::new_invalid(),
-            };
-            self.aabbs.push(aabb);
-            if self.shapes[i].is_some() && !self.planes.contains(&i) {
-                self.order.push(i);
-            }
-        }
-        let aabbs = &self.aabbs;
-        self.order.sort_unstable_by(|&i, &j| aabbs[i].mins.x.total_cmp(&aabbs[j].mins.x));
-        for (k, &i) in self.order.iter().enumerate() {
-            let box_i = &aabbs[i];
-            for &j in &self.order[k + 1..] {
-                let box_j = &aabbs[j];
-                if box_j.mins.x > box_i.maxs.x {
-                    break;
-                }
-                if (bodies[i].fixed && bodies[j].fixed) || !box_i.intersects(box_j) {
-                    continue;
-                }
-                self.pairs.push((i.min(j), i.max(j)));
-            }
-        }
-        for &p in &self.planes {
-            for (i, body) in bodies.iter().enumerate().take(n) {
-                if i != p && !body.fixed && self.shapes[i].is_some() && !self.planes.contains(&i) {
-                    self.pairs.push((p, i));
-                }
-            }
-        }
-        if !self.excluded.is_empty() {
-            let excluded = &self.excluded;
-            self.pairs.retain(|&(i, j)| excluded.binary_search(&(i.min(j), i.max(j))).is_err());
-        }
-        // pairs in index order: the contacts come out grouped by pair, in the same order every run
-        self.pairs.sort_unstable();
-    }
-
-    /// parry's contact manifold between bodies `i` and `j` (both convex), appended to `out` in the
+    /// parry's contact manifold of the entry's pair of bodies (both convex), appended to `out` in the
     /// world frame: the pair's manifold of the last step when the pair has barely moved since it was
     /// made (module `pairs`), else made again. Whether it was reused.
-    fn narrow_phase(&mut self, bodies: &[RigidBody], i: usize, j: usize, out: &mut Vec<Contact>) -> bool {
+    fn narrow_phase(&self, bodies: &[RigidBody], entry: &mut pairs::PairManifold, out: &mut Vec<Contact>) -> bool {
+        let (i, j) = entry.pair();
         let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return false };
         let pose_i = self.pose(bodies, i);
         let pose_j = self.pose(bodies, j);
@@ -373,7 +357,6 @@ impl Colliders {
         // a plane is unbounded: the other shape's size sets the bound
         let size = |k: usize| if self.planes.contains(&k) { f64::INFINITY } else { self.radii[k] };
         let reuse_distance = self.reuse_fraction * size(i).min(size(j));
-        let entry = self.manifolds.entry((i, j));
         let reused = entry.reusable(&pos12, prediction, self.radii[j], reuse_distance);
         if reused {
             entry.reuse(&pos12);

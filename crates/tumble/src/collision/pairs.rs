@@ -89,6 +89,11 @@ impl PairManifolds {
         self.cursor = 0;
     }
 
+    /// This step's entries so far, in pair order.
+    pub(super) fn current_mut(&mut self) -> &mut [PairManifold] {
+        &mut self.current
+    }
+
     /// After it: the manifolds of the pairs no longer listed go to the pool.
     pub(super) fn end_step(&mut self) {
         self.retire_before((usize::MAX, usize::MAX));
@@ -125,6 +130,11 @@ impl PairManifolds {
 }
 
 impl PairManifold {
+    /// The pair of bodies, `(first, second)`.
+    pub(super) fn pair(&self) -> (usize, usize) {
+        self.pair
+    }
+
     /// Whether the manifold can be reused at relative pose `pos12` with the step's `prediction` (m):
     /// the motion bound of shape 2 (bounding radius `radius2`, m) since the manifold was made is below
     /// `reuse_distance` (m) and, added to the prediction, within the prediction it was made with.

@@ -169,6 +169,12 @@ fn world_config(
     if let Some(l) = &w.sample_every {
         config.sample_every = l.value;
     }
+    if let Some(l) = &w.threads {
+        config.threads = usize::try_from(l.value).map_err(|_| {
+            src.error(l.span.as_ref(), "world.threads", "must be an integer ≥ 0 (0: one thread per core)")
+                .got(l.value.to_string())
+        })?;
+    }
     contact_settings(src, w, &mut config)?;
     if let Some(l) = &w.integrator {
         config.integrator = l.value.parse::<Integrator>().map_err(|_| {
@@ -196,6 +202,7 @@ fn world_config(
             "rtol" => span(w.rtol.as_ref().and_then(|l| l.span.clone())),
             "atol" => span(w.atol.as_ref().and_then(|l| l.span.clone())),
             "sample_every" => span(w.sample_every.as_ref().and_then(|l| l.span.clone())),
+            "threads" => span(w.threads.as_ref().and_then(|l| l.span.clone())),
             "restitution" => span(w.restitution.as_ref().and_then(|l| l.span.clone())),
             "friction" => span(w.friction.as_ref().and_then(|l| l.span.clone())),
             "impact_speed" => span(w.impact_speed.as_ref().and_then(|l| l.span.clone())),

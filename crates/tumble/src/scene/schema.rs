@@ -131,6 +131,8 @@ pub struct WorldDoc {
     pub rtol: Option<Loc<f64>>,
     pub atol: Option<Loc<f64>>,
     pub sample_every: Option<Loc<u64>>,
+    /// Threads of the collision detection, ≥ 0 (0: one per core).
+    pub threads: Option<Loc<i64>>,
     /// Contacts on or off (default on).
     pub contacts: Option<Loc<bool>>,
     /// Default restitution of bodies that give none, [0, 1].

@@ -11,6 +11,7 @@ mod hash;
 mod profile;
 mod robots;
 mod state;
+mod threads;
 pub use hash::StateHasher;
 pub(crate) use profile::Clock;
 pub use profile::{PerStep, Profile};
@@ -38,6 +39,9 @@ pub struct WorldConfig {
     pub sample_every: u64,
     /// Contact settings (see [`ContactSettings`]).
     pub contact: ContactSettings,
+    /// Threads of the collision detection: 0 (the default) for one per core, 1 for none but the
+    /// caller's (no thread pool at all). The results are the same bit for bit for any number.
+    pub threads: usize,
 }
 
 impl Default for WorldConfig {
@@ -50,6 +54,7 @@ impl Default for WorldConfig {
             tolerances: Tolerances::default(),
             sample_every: 1,
             contact: ContactSettings::default(),
+            threads: 0,
         }
     }
 }
@@ -70,6 +75,8 @@ pub struct ConfigError {
 pub const MIN_DT: f64 = 1e-9;
 /// Largest accepted number of steps in one run.
 pub const MAX_STEPS: f64 = 1e9;
+/// Largest accepted number of threads.
+pub const MAX_THREADS: usize = 1024;
 
 impl WorldConfig {
     /// Checks every setting: finite gravity with `|g| ≤ 1e6`, `1e-9 ≤ dt`, `duration ≥ 0`,
@@ -101,6 +108,9 @@ impl WorldConfig {
         }
         if self.sample_every == 0 {
             return bad("sample_every", "must be ≥ 1", "0".into());
+        }
+        if self.threads > MAX_THREADS {
+            return bad("threads", "must be at most 1024 (0: one per core)", self.threads.to_string());
         }
         crate::contact::validate(&self.contact).map_err(|(field, problem, value)| ConfigError {
             field,
@@ -147,6 +157,8 @@ pub struct World {
     first_contact: Vec<Option<u64>>,
     /// Wall time per stage since profiling was switched on; `None`: off (see [`World::set_profiling`]).
     profile: Option<Profile>,
+    /// The collision detection's threads (module `threads`).
+    threads: threads::Threads,
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -169,6 +181,7 @@ impl World {
             contact: ContactStage::default(),
             first_contact: Vec::new(),
             profile: None,
+            threads: threads::Threads::default(),
         }
     }
 
@@ -216,6 +229,10 @@ impl World {
         let contacts = self.contacts_possible();
         self.save_states(contacts);
         if contacts {
+            // a small world is not worth the threads (nor their start)
+            let pool =
+                if self.bodies.len() >= threads::MIN_BODIES { self.threads.pool(self.config.threads) } else { None };
+            self.contact.colliders_mut(&self.bodies).set_thread_pool(pool);
             let lead = self.config.integrator.position_lead();
             self.contact.resolve(
                 &mut self.bodies,

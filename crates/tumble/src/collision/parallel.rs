@@ -1,0 +1,107 @@
+//! The narrow phase on the world's threads.
+//!
+//! The candidate pairs of convex shapes are cut into contiguous chunks, a few per thread; each chunk
+//! writes the contacts of its pairs, in pair order, into its own buffer and notes where each pair's
+//! contacts start and end (its slot). Each pair's kept manifold is its own entry, touched by one
+//! chunk only. The contacts are then gathered on the caller's thread in pair order — a pair with a
+//! composite shape computed there, in its place, as its caches are shared in a map — so the list is
+//! the one the single-threaded loop gives, bit for bit, whatever the number of threads or chunks:
+//! each pair's computation is the same function of the same inputs, and only the order of the work
+//! changed.
+//!
+//! The buffers and slots are kept from step to step (no allocation once grown).
+
+use super::pairs::{PairManifold, PairManifolds};
+use super::{Colliders, Contact};
+use crate::body::RigidBody;
+use rayon::prelude::*;
+
+/// Fewer candidate pairs than this are done on the caller's thread: the threads' start costs more
+/// than the work (a few µs).
+pub(super) const MIN_PAIRS: usize = 64;
+
+/// Chunks per thread: enough for the threads to even out pairs of unequal cost.
+const CHUNKS_PER_THREAD: usize = 4;
+
+/// Where a pair's contacts are in its chunk's buffer, and whether its manifold was reused.
+#[derive(Debug, Clone, Copy, Default)]
+struct Slot {
+    start: usize,
+    end: usize,
+    reused: bool,
+}
+
+/// The chunks' buffers, kept from step to step.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Chunks {
+    /// The contacts of each chunk, in pair order.
+    contacts: Vec<Vec<Contact>>,
+    /// One slot per convex pair, in pair order.
+    slots: Vec<Slot>,
+    /// The broad phase's pairs found by each chunk of the sweep.
+    pub(super) pairs: Vec<Vec<(usize, usize)>>,
+}
+
+/// The length of the chunks that cut `n` items for `threads` threads: at least 1.
+pub(super) fn chunk_len(n: usize, threads: usize) -> usize {
+    n.div_ceil((threads * CHUNKS_PER_THREAD).max(1)).max(1)
+}
+
+impl Colliders {
+    /// The narrow phase of `pairs` (sorted) on `pool`'s threads, the contacts appended to `out` in
+    /// pair order; the pairs of convex shapes and how many of their manifolds were reused.
+    pub(super) fn narrow_phase_parallel(
+        &mut self,
+        pool: &rayon::ThreadPool,
+        bodies: &[RigidBody],
+        pairs: &[(usize, usize)],
+        manifolds: &mut PairManifolds,
+        out: &mut Vec<Contact>,
+    ) -> (u64, u64) {
+        // this step's entries, in pair order, before the work is shared out
+        for &(i, j) in pairs {
+            if !(self.composite[i] || self.composite[j]) {
+                manifolds.entry((i, j));
+            }
+        }
+        let entries: &mut [PairManifold] = manifolds.current_mut();
+        let n = entries.len();
+        let len = chunk_len(n, pool.current_num_threads());
+        let count = n.div_ceil(len);
+        let mut chunks = std::mem::take(&mut self.chunks);
+        if chunks.contacts.len() < count {
+            chunks.contacts.resize_with(count, Vec::new);
+        }
+        chunks.slots.clear();
+        chunks.slots.resize(n, Slot::default());
+        let this = &*self;
+        pool.install(|| {
+            entries
+                .par_chunks_mut(len)
+                .zip(chunks.slots.par_chunks_mut(len))
+                .zip(&mut chunks.contacts[..count])
+                .for_each(|((entries, slots), buffer)| {
+                    buffer.clear();
+                    for (entry, slot) in entries.iter_mut().zip(slots) {
+                        let start = buffer.len();
+                        let reused = this.narrow_phase(bodies, entry, buffer);
+                        *slot = Slot { start, end: buffer.len(), reused };
+                    }
+                });
+        });
+        // gathered in pair order; the composite pairs in their places
+        let (mut convex, mut reused) = (0, 0);
+        for &(i, j) in pairs {
+            if self.composite[i] || self.composite[j] {
+                self.narrow_phase_composite(bodies, i, j, out);
+                continue;
+            }
+            let slot = chunks.slots[convex];
+            out.extend_from_slice(&chunks.contacts[convex / len][slot.start..slot.end]);
+            reused += u64::from(slot.reused);
+            convex += 1;
+        }
+        self.chunks = chunks;
+        (convex as u64, reused)
+    }
+}
