@@ -64,8 +64,13 @@ pub fn ltdl_solve(model: &MultibodyModel, ws: &Workspace, b: &mut [f64]) -> Resu
     check_len("b", b.len(), nv)?;
     check_len("LTDL factors (call ltdl_factor first)", ws.ltdl.nrows(), nv)?;
     let h = &ws.ltdl;
-    // Lᵀ z = b, from the leaves: z_k is final once every descendant is done
+    // Lᵀ z = b, from the leaves: z_k is final once every descendant is done. A zero z_k changes
+    // nothing above it: a right-hand side with few non-zeros (a contact point's `J_cᵀ e`, non-zero
+    // only on the dofs that move its body) walks only their chains
     for k in (0..nv).rev() {
+        if b[k] == 0.0 {
+            continue;
+        }
         let mut i = model.dof_parent(k);
         while i != NONE {
             // b_i −= L_ki z_k
