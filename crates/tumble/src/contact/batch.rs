@@ -611,14 +611,12 @@ mod tests {
         }
     }
 
+    /// Bodies, whether each moves, constraints, and the manifolds as ranges of the constraints.
+    type Scene = (Vec<SolverBody>, Vec<bool>, Vec<Constraint>, Vec<(usize, usize)>);
+
     /// Bodies (the first `fixed` of them fixed), and manifolds of 1–5 points between pairs of them:
     /// every pair of `hub` with the others, plus random pairs; in pair order.
-    fn scene(
-        rng: &mut Rng,
-        count: usize,
-        fixed: usize,
-        extra_pairs: usize,
-    ) -> (Vec<SolverBody>, Vec<bool>, Vec<Constraint>, Vec<(usize, usize)>) {
+    fn scene(rng: &mut Rng, count: usize, fixed: usize, extra_pairs: usize) -> Scene {
         let mut bodies = Vec::new();
         let mut moving = Vec::new();
         for i in 0..count {
