@@ -30,6 +30,7 @@
 //! `e = max(e_a, e_b)`; a body without a value takes the world's default. When both bodies give the
 //! same value the pair uses it.
 
+pub mod batch;
 mod collisions;
 pub mod impact;
 pub mod links;
@@ -128,6 +129,8 @@ pub struct ContactStage {
     constraints: Vec<Constraint>,
     /// The constraints of each pair of bodies, as ranges of `constraints`.
     groups: Vec<(usize, usize)>,
+    /// The pairs' colours and the constraints in `f64x4` lanes (the free bodies' solve).
+    lanes: batch::LaneSolver,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
     shifts: Vec<(DVec3, DVec3)>,
     /// The collisions of the step in time order (stage 1's buffers).
@@ -384,6 +387,9 @@ impl ContactStage {
                 start = i + 1;
             }
         }
+        // the pairs in colours, four to a batch (`batch`): the pairs of a colour share no moving body
+        self.lanes.build(&self.groups, &self.constraints, bodies.len(), |i| !bodies[i].fixed);
+        let lanes = &mut self.lanes;
         let constraints = &mut self.constraints;
         self.lambda_sums.clear();
         self.lambda_sums.resize(constraints.len(), [0.0; 3]);
@@ -396,9 +402,7 @@ impl ContactStage {
             if with_links {
                 links.integrate_velocity(h);
             }
-            for &(s, e) in &self.groups {
-                solver::warm_start_pair(&constraints[s..e], &mut self.bodies);
-            }
+            lanes.warm_start(constraints, &mut self.bodies);
             if with_links {
                 links.warm_start(&mut self.bodies);
                 links.warm_start_limits();
@@ -406,9 +410,7 @@ impl ContactStage {
             let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
                 let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
                 for _ in 0..settings.iterations {
-                    for &(s, e) in &self.groups {
-                        solver::solve_pair(&mut constraints[s..e], bodies, &sweep);
-                    }
+                    lanes.solve(constraints, bodies, &sweep);
                     if with_links {
                         links.solve(bodies, &sweep);
                         links.solve_limits(&sweep);
@@ -428,6 +430,7 @@ impl ContactStage {
             }
             // the impulse a constraint applied in this substep is its accumulated λ (the warm start
             // applied the λ it started with, the sweeps the changes)
+            lanes.store_lambdas(constraints);
             for (sum, k) in self.lambda_sums.iter_mut().zip(constraints.iter()) {
                 for (s, l) in sum.iter_mut().zip(k.lambda) {
                     *s += l;
