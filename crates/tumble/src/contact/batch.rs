@@ -48,13 +48,9 @@ pub const COLOURS: usize = 24;
 /// A lane without a manifold, or a point slot a manifold does not fill.
 const NONE: usize = usize::MAX;
 
-/// A 3-vector of four lanes.
-#[derive(Debug, Clone, Copy, Default)]
-struct V3 {
-    x: f64x4,
-    y: f64x4,
-    z: f64x4,
-}
+/// A 3-vector of four lanes (`integrate::lanes::V3`, whose operations follow `DVec3`'s operand for
+/// operand), with what the solve adds: gathering from four constraints or bodies, and a select.
+type V3 = crate::integrate::lanes::V3<f64x4>;
 
 impl V3 {
     #[inline(always)]
@@ -65,39 +61,6 @@ impl V3 {
             y: f64x4::new([v[0].y, v[1].y, v[2].y, v[3].y]),
             z: f64x4::new([v[0].z, v[1].z, v[2].z, v[3].z]),
         }
-    }
-
-    #[inline(always)]
-    fn lane(&self, k: usize) -> DVec3 {
-        DVec3::new(self.x.as_array()[k], self.y.as_array()[k], self.z.as_array()[k])
-    }
-
-    /// `DVec3::dot`: `(x x' + y y') + z z'`.
-    #[inline(always)]
-    fn dot(self, o: Self) -> f64x4 {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-
-    /// `DVec3::cross`, operand for operand.
-    #[inline(always)]
-    fn cross(self, o: Self) -> Self {
-        Self { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
-    }
-
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        Self { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
-    }
-
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        Self { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
-    }
-
-    /// `s * v`, as `f64 * DVec3`.
-    #[inline(always)]
-    fn scale(self, s: f64x4) -> Self {
-        Self { x: s * self.x, y: s * self.y, z: s * self.z }
     }
 
     #[inline(always)]

@@ -29,7 +29,7 @@
 use super::euler::finish_implicit_gyroscopic;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
-use super::lanes::Lanes;
+use super::lanes::{Lanes, V3};
 use crate::body::RigidBody;
 use crate::math::{quat_exp, DQuat, DVec3};
 use crate::world::MAX_STATE_MAGNITUDE;
@@ -49,75 +49,6 @@ pub fn batchable(body: &RigidBody) -> bool {
 #[inline(always)]
 fn gather<L: Lanes>(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> f64) -> L {
     L::new([f(bodies[0]), f(bodies[1]), f(bodies[2]), f(bodies[3])])
-}
-
-/// A 3-vector of four bodies.
-#[derive(Clone, Copy)]
-struct V3<L> {
-    x: L,
-    y: L,
-    z: L,
-}
-
-impl<L: Lanes> V3<L> {
-    /// `self · self`, summed as `DVec3::length_squared`: `(x x + y y) + z z`.
-    #[inline(always)]
-    fn length_squared(self) -> L {
-        self.x * self.x + self.y * self.y + self.z * self.z
-    }
-
-    /// `s self`, as `f64 * DVec3`.
-    #[inline(always)]
-    fn scale(self, s: L) -> Self {
-        V3 { x: s * self.x, y: s * self.y, z: s * self.z }
-    }
-
-    /// `self * other` componentwise, as `DVec3 * DVec3`.
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        V3 { x: self.x * o.x, y: self.y * o.y, z: self.z * o.z }
-    }
-
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        V3 { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
-    }
-
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        V3 { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
-    }
-
-    #[inline(always)]
-    fn dot(self, o: Self) -> L {
-        self.x * o.x + self.y * o.y + self.z * o.z
-    }
-
-    /// As `DVec3::cross`.
-    #[inline(always)]
-    fn cross(self, o: Self) -> Self {
-        V3 { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
-    }
-
-    #[inline(always)]
-    fn lane(self, k: usize) -> DVec3 {
-        DVec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
-    }
-
-    #[inline(always)]
-    fn set_lane(&mut self, k: usize, v: DVec3) {
-        set_lane(&mut self.x, k, v.x);
-        set_lane(&mut self.y, k, v.y);
-        set_lane(&mut self.z, k, v.z);
-    }
-}
-
-/// Lane `k` of `lanes` set to `value`.
-#[inline(always)]
-fn set_lane<L: Lanes>(lanes: &mut L, k: usize, value: f64) {
-    let mut a = lanes.to_array();
-    a[k] = value;
-    *lanes = L::new(a);
 }
 
 /// Advances the bodies `bodies[lanes[k]]`, `k < count`, by one semi-implicit Euler step of `h`
@@ -143,7 +74,7 @@ pub fn semi_implicit_euler_x4(
         #[allow(unsafe_code)]
         return unsafe { x4_avx2(bodies, lanes, count, gravity_world, h) };
     }
-    x4::<f64x4>(bodies, lanes, count, gravity_world, h)
+    semi_implicit_euler_x4_portable(bodies, lanes, count, gravity_world, h)
 }
 
 /// [`semi_implicit_euler_x4`] in `wide::f64x4` lanes whatever the CPU (SSE2 in the default build):

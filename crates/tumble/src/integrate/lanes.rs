@@ -8,6 +8,7 @@
 //! multiply-add), so the results are the same bits either way. A mask is a lane value with all bits
 //! set (true) or clear (false); a comparison with a NaN is false.
 
+use crate::math::DVec3;
 use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
 use wide::f64x4;
 
@@ -67,6 +68,76 @@ impl Lanes for f64x4 {
     fn bitmask(self) -> u32 {
         self.to_bitmask()
     }
+}
+
+/// A 3-vector in four lanes (four bodies, or four constraints), with `DVec3`'s operations performed
+/// operand for operand, so that each lane gives the scalar `DVec3` result bit for bit.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct V3<L> {
+    pub(crate) x: L,
+    pub(crate) y: L,
+    pub(crate) z: L,
+}
+
+impl<L: Lanes> V3<L> {
+    /// `self · self`, summed as `DVec3::length_squared`: `(x x + y y) + z z`.
+    #[inline(always)]
+    pub(crate) fn length_squared(self) -> L {
+        self.x * self.x + self.y * self.y + self.z * self.z
+    }
+
+    /// `s self`, as `f64 * DVec3`.
+    #[inline(always)]
+    pub(crate) fn scale(self, s: L) -> Self {
+        V3 { x: s * self.x, y: s * self.y, z: s * self.z }
+    }
+
+    /// `self * other` componentwise, as `DVec3 * DVec3`.
+    #[inline(always)]
+    pub(crate) fn mul(self, o: Self) -> Self {
+        V3 { x: self.x * o.x, y: self.y * o.y, z: self.z * o.z }
+    }
+
+    #[inline(always)]
+    pub(crate) fn add(self, o: Self) -> Self {
+        V3 { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
+    }
+
+    #[inline(always)]
+    pub(crate) fn sub(self, o: Self) -> Self {
+        V3 { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
+    }
+
+    #[inline(always)]
+    pub(crate) fn dot(self, o: Self) -> L {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// As `DVec3::cross`.
+    #[inline(always)]
+    pub(crate) fn cross(self, o: Self) -> Self {
+        V3 { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
+    }
+
+    #[inline(always)]
+    pub(crate) fn lane(self, k: usize) -> DVec3 {
+        DVec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
+    }
+
+    #[inline(always)]
+    pub(crate) fn set_lane(&mut self, k: usize, v: DVec3) {
+        set_lane(&mut self.x, k, v.x);
+        set_lane(&mut self.y, k, v.y);
+        set_lane(&mut self.z, k, v.z);
+    }
+}
+
+/// Lane `k` of `lanes` set to `value`.
+#[inline(always)]
+pub(crate) fn set_lane<L: Lanes>(lanes: &mut L, k: usize, value: f64) {
+    let mut a = lanes.to_array();
+    a[k] = value;
+    *lanes = L::new(a);
 }
 
 #[cfg(target_arch = "x86_64")]

@@ -17,7 +17,7 @@
 pub mod batch;
 pub mod dopri5;
 pub mod euler;
-mod lanes;
+pub(crate) mod lanes;
 pub mod rk4;
 pub mod splitting;
 
