@@ -287,19 +287,27 @@ impl Colliders {
         Pose::from_parts(b.state.position, b.orientation_user()) * self.shape_offsets[i]
     }
 
+    /// The radius of body `i`'s bounding sphere about its centre of mass (m); 0 for a plane or a
+    /// body without a shape.
+    pub fn radius(&self, i: usize) -> f64 {
+        self.radii.get(i).copied().unwrap_or(0.0)
+    }
+
     /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
     /// the distance they can close during `dt` (s) under `gravity` (the world's, m/s², world frame,
     /// scaled by each body's `gravity_scale`), plus `slop` (m) or [`PREDICTION_MARGIN`], whichever
     /// is larger.
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
-        self.find_contacts_profiled(bodies, dt, gravity, slop, out, None);
+        self.find_contacts_profiled(bodies, &[], dt, gravity, slop, out, None);
     }
 
     /// [`Self::find_contacts`], adding the time of the broad and narrow phases and the narrow
     /// phase's counts to `profile` when given.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn find_contacts_profiled(
         &mut self,
         bodies: &[RigidBody],
+        asleep: &[bool],
         dt: f64,
         gravity: DVec3,
         slop: f64,
@@ -310,6 +318,11 @@ impl Colliders {
         out.clear();
         // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
         self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
+        // two bodies that are asleep or fixed keep their contacts (`contact::sleep`)
+        if asleep.iter().any(|&a| a) {
+            let rests = |i: usize| bodies[i].fixed || asleep.get(i).copied().unwrap_or(false);
+            self.pairs.retain(|&(i, j)| !(rests(i) && rests(j)));
+        }
         let broad = clock.lap();
         let pairs = std::mem::take(&mut self.pairs);
         let mut manifolds = std::mem::take(&mut self.manifolds);
