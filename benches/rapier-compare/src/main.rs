@@ -1,9 +1,11 @@
 //! Runs the contact scenes in tumble and in Rapier, single-threaded, side by side: wall time per step,
 //! the ratio, and the stability of the pyramid (the largest displacement of a body after the run).
 //!
-//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [--threads N] [SCENE.toml ...]`
-//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5 repetitions, tumble on
-//! one thread; `--threads N` gives tumble's collision detection N threads, Rapier stays on one).
+//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [--threads N] [--sleep-speed V]
+//! [SCENE.toml ...]` (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5
+//! repetitions, tumble on one thread; `--threads N` gives tumble's collision detection N threads,
+//! Rapier stays on one; `--sleep-speed V` sets tumble's `sleep_speed`, m/s — Rapier's default
+//! thresholds are 0.05 m/s and 0.5 rad/s, tumble's default 0.01 m/s on `‖v‖ + ρ ‖ω‖`).
 //!
 //! The machine's speed drifts (other builds share its cores), so each repetition runs the engines
 //! one after the other — Rapier and tumble with sleeping off (every body solved at every step: the
@@ -197,6 +199,15 @@ fn main() {
         });
         args.drain(at..at + 2);
     }
+    let mut sleep_speed = None;
+    if let Some(at) = args.iter().position(|a| a == "--sleep-speed") {
+        sleep_speed =
+            Some(args.get(at + 1).and_then(|n| n.parse::<f64>().ok()).filter(|v| *v >= 0.0).unwrap_or_else(|| {
+                eprintln!("--sleep-speed takes a speed ≥ 0 (m/s)");
+                std::process::exit(2);
+            }));
+        args.drain(at..at + 2);
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let scenes: Vec<String> = if args.is_empty() {
         ["scenes/pyramid.toml", "scenes/balls.toml"].iter().map(|s| root.join(s).display().to_string()).collect()
@@ -215,6 +226,9 @@ fn main() {
         };
         let mut world = scene.world;
         world.set_threads(threads);
+        if let Some(v) = sleep_speed {
+            world.config.contact.sleep_speed = v;
+        }
         // awake: sleeping off in both engines (the work of every step); asleep: both engines'
         // default, islands at rest fall asleep
         let mut runs: [Vec<Run>; 4] = Default::default();
