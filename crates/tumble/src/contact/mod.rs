@@ -168,6 +168,9 @@ pub struct ContactStage {
     fresh: Vec<Contact>,
     /// Islands and sleeping (module [`sleep`]).
     sleep: sleep::Sleep,
+    /// The sleep epoch in which the contacts were all kept ones of sleeping pairs (the narrow
+    /// phase found none): while it holds, the step has nothing to do.
+    steady: Option<u64>,
     /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
     pub links: links::LinkStage,
     /// Energy dissipated so far.
@@ -261,6 +264,7 @@ impl ContactStage {
             self.frozen.clear();
             self.links.clear();
             self.sleep.wake_all();
+            self.steady = None;
             return;
         }
         self.colliders_mut(bodies);
@@ -278,14 +282,21 @@ impl ContactStage {
             profile.as_mut(),
         );
         self.profile = profile;
-        self.merge_frozen(bodies, &fresh);
+        // nothing awake touches anything, and nobody fell asleep or woke since the last step: the
+        // contacts, their impulses and the warm starts are the last step's
+        let epoch = self.sleep.epoch();
+        let steady = fresh.is_empty() && self.steady == Some(epoch);
+        if !steady {
+            self.merge_frozen(bodies, &fresh);
+        }
+        self.steady = fresh.is_empty().then_some(epoch);
         self.fresh = fresh;
         if !self.links.colliders.is_empty() {
             let colliders = self.colliders.as_ref().expect("built above");
             self.links.detect(colliders, bodies, robots, dt, settings.slop);
         }
-        if self.sleep.count() > 0 {
-            self.sleep.wake_touched(bodies, &self.contacts, self.links.touched_bodies());
+        if self.sleep.wake_touched(bodies, &self.contacts, self.links.touched_bodies()) {
+            self.steady = None;
             // the contacts of an island that woke are solved in this step
             for (k, c) in self.contacts.iter().enumerate() {
                 if self.frozen[k] && !(self.sleep.resting(bodies, c.a) && self.sleep.resting(bodies, c.b)) {
@@ -293,6 +304,8 @@ impl ContactStage {
                     self.impulses[k] = DVec3::ZERO;
                 }
             }
+        } else if steady && self.links.is_empty() {
+            return;
         }
         if self.contacts.is_empty() && self.links.is_empty() {
             self.previous.clear();

@@ -130,13 +130,15 @@ pub struct Sleep {
     count: usize,
     /// Whether an island fell asleep or woke since `frozen` was built.
     changed: bool,
+    /// Counts every change of who sleeps or of `frozen`: equal epochs, the same sleeping state.
+    epoch: u64,
 }
 
 impl Sleep {
     /// Sizes the state for `n` bodies (a new set of bodies wakes everything).
     pub(super) fn resize(&mut self, n: usize) {
         if self.asleep.len() != n {
-            *self = Self { gravity: self.gravity, ..Self::default() };
+            *self = Self { gravity: self.gravity, epoch: self.epoch + 1, ..Self::default() };
             self.asleep.resize(n, false);
             self.still.resize(n, 0.0);
             self.island.resize(n, 0);
@@ -147,6 +149,11 @@ impl Sleep {
     /// Per body, whether it is asleep (empty before the first step with contacts).
     pub fn asleep(&self) -> &[bool] {
         &self.asleep
+    }
+
+    /// A number that changes whenever a body falls asleep or wakes or the kept contacts change.
+    pub(super) fn epoch(&self) -> u64 {
+        self.epoch
     }
 
     /// How many bodies are asleep.
@@ -168,6 +175,7 @@ impl Sleep {
             self.snapshots.iter_mut().for_each(|s| *s = None);
             self.count = 0;
             self.changed = true;
+            self.epoch += 1;
         }
         self.frozen.clear();
     }
@@ -184,6 +192,7 @@ impl Sleep {
             }
         }
         self.changed = true;
+            self.epoch += 1;
     }
 
     /// Before the narrow phase: wakes the islands whose bodies (or the fixed bodies under them)
@@ -238,16 +247,17 @@ impl Sleep {
     }
 
     /// After the narrow phase: wakes every sleeping island joined by a contact to an awake free
-    /// body or touched by a robot's link (`link_bodies`), until none is.
+    /// body or touched by a robot's link (`link_bodies`), until none is. Whether any woke.
     pub(super) fn wake_touched(
         &mut self,
         bodies: &[RigidBody],
         contacts: &[Contact],
         link_bodies: impl Iterator<Item = usize>,
-    ) {
+    ) -> bool {
         if self.count == 0 {
-            return;
+            return false;
         }
+        let epoch = self.epoch;
         for i in link_bodies {
             if self.asleep[i] {
                 self.wake_island(i);
@@ -269,6 +279,7 @@ impl Sleep {
                 break;
             }
         }
+        self.epoch != epoch
     }
 
     /// At the start of a step, from the velocities the last step left and its contacts (with their
@@ -370,6 +381,7 @@ impl Sleep {
             self.snapshots[i] = Some(Snapshot::of(b));
             self.count += 1;
             self.changed = true;
+            self.epoch += 1;
         }
         if self.changed {
             self.gravity = gravity;
@@ -399,6 +411,7 @@ impl Sleep {
             return 0.0;
         }
         self.changed = false;
+        self.epoch += 1;
         self.frozen.clear();
         if self.count == 0 {
             return 0.0;
