@@ -104,11 +104,8 @@ pub struct Colliders {
     excluded: Vec<(usize, usize)>,
     aabbs: Vec<Aabb>,
     sweeps: Vec<f64>,
-    /// The bodies with a box, sorted along the sweep axis (kept: the next sort starts from it).
-    order: Vec<usize>,
-    /// The sweep axis (0, 1, 2: x, y, z) and the boxes in sorted order (module `broad`).
-    axis: usize,
-    sorted: Vec<broad::SweepBox>,
+    /// The broad phase's grid and buffers (module `broad`).
+    grid: broad::Grid,
     pairs: Vec<(usize, usize)>,
     /// The manifold of each pair of convex shapes, kept across steps (module `pairs`).
     manifolds: pairs::PairManifolds,
@@ -189,9 +186,7 @@ impl Colliders {
             excluded: Vec::new(),
             aabbs: Vec::new(),
             sweeps: Vec::new(),
-            order: Vec::new(),
-            axis: 0,
-            sorted: Vec::new(),
+            grid: broad::Grid::default(),
             pairs: Vec::new(),
             manifolds: pairs::PairManifolds::default(),
             reuse_fraction: REUSE_FRACTION,
@@ -213,7 +208,6 @@ impl Colliders {
         self.composite.clear();
         self.composite_pairs.clear();
         self.manifolds.clear();
-        self.order.clear();
         for (i, body) in bodies.iter().enumerate() {
             let Some(shape) = &body.shape else {
                 self.shapes.push(None);
