@@ -71,44 +71,16 @@ const CELL_MARGIN: f64 = 1e-6;
 /// with the cell's own remainder and the cell `x + 1`, the 13 cells after it.
 const FORWARD_ROWS: [(isize, isize); 4] = [(1, 0), (-1, 1), (0, 1), (1, 1)];
 
-/// A small box in the grid.
-#[derive(Debug, Clone, Copy)]
-struct CellBox {
-    /// The swept box, world frame (m).
-    aabb: Aabb,
-    /// The body's index.
-    body: usize,
-    fixed: bool,
-    /// The cell of its lower corner.
-    cell: usize,
-}
-
-impl Default for CellBox {
-    fn default() -> Self {
-        Self { aabb: Aabb::new_invalid(), body: 0, fixed: false, cell: 0 }
-    }
-}
-
 /// Whether two swept boxes overlap, closed on all three axes.
 #[inline]
 fn overlap(a: &Aabb, b: &Aabb) -> bool {
-    a.mins.x <= b.maxs.x
-        && b.mins.x <= a.maxs.x
-        && a.mins.y <= b.maxs.y
-        && b.mins.y <= a.maxs.y
-        && a.mins.z <= b.maxs.z
-        && b.mins.z <= a.maxs.z
-}
-
-/// The pairs of `a` with the boxes `run` that it overlaps (not two fixed ones), appended to `found`
-/// as `(min, max)` body indices.
-#[inline]
-fn meet_run(a: &CellBox, run: &[CellBox], found: &mut Vec<(usize, usize)>) {
-    for b in run {
-        if overlap(&a.aabb, &b.aabb) && !(a.fixed && b.fixed) {
-            found.push((a.body.min(b.body), a.body.max(b.body)));
-        }
-    }
+    // no early exit: one branch per pair, rarely taken, rather than six unpredictable ones
+    (a.mins.x <= b.maxs.x)
+        & (b.mins.x <= a.maxs.x)
+        & (a.mins.y <= b.maxs.y)
+        & (b.mins.y <= a.maxs.y)
+        & (a.mins.z <= b.maxs.z)
+        & (b.mins.z <= a.maxs.z)
 }
 
 /// The cells: origin (the least lower corner of the small boxes), inverse side and counts.
@@ -144,8 +116,8 @@ impl Lattice {
     /// The cell coordinate of `x` (m) along axis `k`, clamped to the grid.
     #[inline]
     fn coordinate(&self, x: f64, k: usize) -> usize {
-        // the cast saturates: below the origin (or NaN) is 0
-        (((x - self.origin[k]) * self.inv_side) as usize).min(self.dims[k] - 1)
+        // the cast saturates (NaN is 0); below the origin is 0
+        (((x - self.origin[k]) * self.inv_side) as i64).clamp(0, self.dims[k] as i64 - 1) as usize
     }
 
     /// The cell coordinates of the point `p` (m).
@@ -172,12 +144,18 @@ pub(super) struct Grid {
     boxed: Vec<usize>,
     /// The large boxes' bodies, in index order.
     large: Vec<usize>,
-    /// The small boxes' bodies and the index of their cell, in index order.
-    small: Vec<(usize, usize)>,
-    /// `starts[c] .. starts[c + 1]`: the small boxes of cell `c` in `boxes` (`cells + 2` entries).
+    /// The small boxes' bodies and their cell (index and coordinates), in index order.
+    small: Vec<(usize, usize, [usize; 3])>,
+    /// `starts[c] .. starts[c + 1]`: the small boxes of cell `c` in the lists below (`cells + 2`
+    /// entries).
     starts: Vec<usize>,
-    /// The small boxes sorted by cell.
-    boxes: Vec<CellBox>,
+    /// The small boxes sorted by cell: their swept boxes (m), bodies and whether fixed, and cells
+    /// (index and coordinates: no division to find them).
+    bounds: Vec<Aabb>,
+    owners: Vec<(usize, bool)>,
+    places: Vec<(usize, [usize; 3])>,
+    /// The places in the lists above of the boxes a cell is tested against.
+    candidates: Vec<u32>,
     /// The pairs found, `(min, max)` body indices, in no order.
     found: Vec<(usize, usize)>,
     /// `firsts[i] .. firsts[i + 1]`: body `i`'s partners `j > i` in `seconds` (`n + 2` entries).
@@ -273,7 +251,7 @@ impl Grid {
                 side = side.max(width);
                 lowest = lowest.min(aabb.mins);
                 highest = highest.max(aabb.mins);
-                self.small.push((i, 0));
+                self.small.push((i, 0, [0; 3]));
             } else {
                 self.large.push(i);
             }
@@ -284,58 +262,87 @@ impl Grid {
         self.large_pairs(&lattice, aabbs, bodies);
     }
 
-    /// Sorts the small boxes into their cells (a counting sort by cell index): `self.boxes` and
-    /// `self.starts`.
+    /// Sorts the small boxes into their cells (a counting sort by cell index): `self.bounds`,
+    /// `self.owners`, `self.places` and `self.starts`.
     fn fill_cells(&mut self, lattice: &Lattice, aabbs: &[Aabb], bodies: &[RigidBody]) {
         let cells = if self.small.is_empty() { 0 } else { lattice.cells() };
         self.starts.clear();
         self.starts.resize(cells + 2, 0);
         // starts[c + 2]: the count of cell c
-        for (i, cell) in &mut self.small {
-            *cell = lattice.index(lattice.coordinates(aabbs[*i].mins));
+        for (i, cell, at) in &mut self.small {
+            *at = lattice.coordinates(aabbs[*i].mins);
+            *cell = lattice.index(*at);
             self.starts[*cell + 2] += 1;
         }
         // starts[c + 1]: the start of cell c
         for c in 2..cells + 2 {
             self.starts[c] += self.starts[c - 1];
         }
-        self.boxes.clear();
-        self.boxes.resize(self.small.len(), CellBox::default());
+        let count = self.small.len();
+        self.bounds.resize(count, Aabb::new_invalid());
+        self.owners.resize(count, (0, false));
+        self.places.resize(count, (0, [0; 3]));
         // each box at starts[c + 1], which moves on: it ends as the end of cell c, the start of c + 1
-        for &(body, cell) in &self.small {
-            let at = &mut self.starts[cell + 1];
-            self.boxes[*at] = CellBox { aabb: aabbs[body], body, fixed: bodies[body].fixed, cell };
-            *at += 1;
+        for &(body, cell, at) in &self.small {
+            let next = &mut self.starts[cell + 1];
+            self.bounds[*next] = aabbs[body];
+            self.owners[*next] = (body, bodies[body].fixed);
+            self.places[*next] = (cell, at);
+            *next += 1;
         }
     }
 
     /// The pairs of small boxes: each cell against itself and its 13 forward neighbours.
     fn small_pairs(&mut self, lattice: &Lattice) {
+        /// Places written at once into the candidates, whatever a run's length.
+        const LANES: usize = 8;
         let [nx, ny, nz] = lattice.dims;
-        let (boxes, starts, found) = (&self.boxes, &self.starts, &mut self.found);
+        let (bounds, owners, starts) = (&self.bounds, &self.owners, &self.starts);
+        let (candidates, found) = (&mut self.candidates, &mut self.found);
         let mut first = 0;
-        while first < boxes.len() {
-            let cell = boxes[first].cell;
+        while first < bounds.len() {
+            let (cell, [x, y, z]) = self.places[first];
             let end = starts[cell + 1];
-            let (x, y, z) = (cell % nx, (cell / nx) % ny, cell / (nx * ny));
-            // the rest of the cell and the cell x + 1 are contiguous
-            let next_end = if x + 1 < nx { starts[cell + 2] } else { end };
-            let mut rows = [(0, 0); FORWARD_ROWS.len()];
-            let mut row_count = 0;
+            // runs of places: the cell and the cell x + 1 (contiguous), then the forward rows
+            let mut runs = [(0, 0); 1 + FORWARD_ROWS.len()];
+            runs[0] = (first, if x + 1 < nx { starts[cell + 2] } else { end });
+            let mut run_count = 1;
             for (dy, dz) in FORWARD_ROWS {
                 let (Some(yy), Some(zz)) = (y.checked_add_signed(dy), z.checked_add_signed(dz)) else { continue };
                 if yy >= ny || zz >= nz {
                     continue;
                 }
                 let row = nx * (yy + ny * zz);
-                rows[row_count] = (starts[row + x.saturating_sub(1)], starts[row + (x + 1).min(nx - 1) + 1]);
-                row_count += 1;
+                runs[run_count] = (starts[row + x.saturating_sub(1)], starts[row + (x + 1).min(nx - 1) + 1]);
+                run_count += 1;
             }
+            let total: usize = runs[..run_count].iter().map(|&(s, e)| e - s).sum();
+            if candidates.len() < total + LANES {
+                candidates.resize(total + LANES, 0);
+            }
+            // the runs' places one after the other, LANES at a time: no branch on a run's length
+            // (short, and unpredictable) unless it is longer
+            let mut len = 0;
+            for &(s, e) in &runs[..run_count] {
+                for (k, c) in candidates[len..len + LANES].iter_mut().enumerate() {
+                    *c = (s + k) as u32;
+                }
+                if e - s > LANES {
+                    for (k, c) in candidates[len + LANES..len + e - s].iter_mut().enumerate() {
+                        *c = (s + LANES + k) as u32;
+                    }
+                }
+                len += e - s;
+            }
+            // the box at `a` meets the boxes after it in its cell (the first run) and the others
             for a in first..end {
-                let box_a = &boxes[a];
-                meet_run(box_a, &boxes[a + 1..next_end], found);
-                for &(s, e) in &rows[..row_count] {
-                    meet_run(box_a, &boxes[s..e], found);
+                let (box_a, (body_a, fixed_a)) = (&bounds[a], owners[a]);
+                for &b in &candidates[a + 1 - first..len] {
+                    let b = b as usize;
+                    if overlap(box_a, &bounds[b]) && !(fixed_a && owners[b].1) {
+                        let body_b = owners[b].0;
+                        found.push((body_a.min(body_b), body_a.max(body_b)));
+                    }
                 }
             }
             first = end;
@@ -346,35 +353,35 @@ impl Grid {
     /// covers (widened by one cell below), or with every small box when that is fewer; and the
     /// pairs of large boxes.
     fn large_pairs(&mut self, lattice: &Lattice, aabbs: &[Aabb], bodies: &[RigidBody]) {
-        let (boxes, starts, found) = (&self.boxes, &self.starts, &mut self.found);
-        let mut meet = |i: usize, j: usize| {
-            if !(bodies[i].fixed && bodies[j].fixed) && overlap(&aabbs[i], &aabbs[j]) {
-                found.push((i.min(j), i.max(j)));
-            }
-        };
+        let (bounds, owners, starts, found) = (&self.bounds, &self.owners, &self.starts, &mut self.found);
         for (k, &i) in self.large.iter().enumerate() {
+            let (aabb, fixed) = (&aabbs[i], bodies[i].fixed);
+            let mut meet = |b: &Aabb, (j, fixed_j): (usize, bool)| {
+                if overlap(aabb, b) && !(fixed && fixed_j) {
+                    found.push((i.min(j), i.max(j)));
+                }
+            };
             for &j in &self.large[k + 1..] {
-                meet(i, j);
+                meet(&aabbs[j], (j, bodies[j].fixed));
             }
-            if boxes.is_empty() {
+            if bounds.is_empty() {
                 continue;
             }
-            let aabb = &aabbs[i];
             let lo = lattice.coordinates(aabb.mins).map(|c| c.saturating_sub(1));
             let hi = lattice.coordinates(aabb.maxs);
             let covered = (0..3).fold(1usize, |count, k| count.saturating_mul((hi[k] + 1).saturating_sub(lo[k])));
             // (a box with lo > hi has a NaN bound and meets nothing: all are tested all the same)
-            if covered >= boxes.len() || (0..3).any(|k| lo[k] > hi[k]) {
-                for b in boxes {
-                    meet(i, b.body);
+            if covered >= bounds.len() || (0..3).any(|k| lo[k] > hi[k]) {
+                for (b, &owner) in bounds.iter().zip(owners) {
+                    meet(b, owner);
                 }
                 continue;
             }
             for z in lo[2]..=hi[2] {
                 for y in lo[1]..=hi[1] {
                     let (s, e) = (starts[lattice.index([lo[0], y, z])], starts[lattice.index([hi[0], y, z]) + 1]);
-                    for b in &boxes[s..e] {
-                        meet(i, b.body);
+                    for (b, &owner) in bounds[s..e].iter().zip(&owners[s..e]) {
+                        meet(b, owner);
                     }
                 }
             }
