@@ -140,8 +140,11 @@ impl Lattice {
 /// The broad phase's buffers, kept from step to step (no allocation once grown).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Grid {
-    /// The bodies with a box (a shape other than a plane), in index order.
+    /// The bodies with a box (a shape other than a plane), in index order, and those of them free.
     boxed: Vec<usize>,
+    free_boxed: Vec<usize>,
+    /// Whether each body is fixed (read here rather than in the bodies: fewer cache lines).
+    fixed: Vec<bool>,
     /// The large boxes' bodies, in index order.
     large: Vec<usize>,
     /// The small boxes' bodies and their cell (index and coordinates), in index order.
@@ -172,11 +175,14 @@ impl Colliders {
         self.pairs.clear();
         let mut grid = std::mem::take(&mut self.grid);
         grid.boxed.clear();
+        grid.free_boxed.clear();
+        grid.fixed.clear();
         // ½ |g| dt², times each body's |gravity_scale|
         let fall = 0.5 * gravity.length() * dt * dt;
         let (mut width_sum, mut widths) = (0.0, 0usize);
         for i in 0..n {
             let b = &bodies[i];
+            grid.fixed.push(b.fixed);
             let sweep = if b.fixed {
                 0.0
             } else {
@@ -194,6 +200,9 @@ impl Colliders {
                         widths += 1;
                     }
                     grid.boxed.push(i);
+                    if !b.fixed {
+                        grid.free_boxed.push(i);
+                    }
                     aabb
                 }
                 _ => Aabb::new_invalid(),
@@ -201,15 +210,15 @@ impl Colliders {
             self.aabbs.push(aabb);
         }
         let large_width = LARGE_FACTOR * width_sum / widths.max(1) as f64;
-        grid.find_pairs(&self.aabbs, bodies, large_width);
+        grid.find_pairs(&self.aabbs, large_width);
         grid.sort_pairs(n);
-        self.emit_pairs(&grid, bodies, n);
+        self.emit_pairs(&grid, n);
         self.grid = grid;
     }
 
     /// The sorted pairs found in `grid` with the plane pairs in their places, the excluded pairs
     /// left out, into `self.pairs`.
-    fn emit_pairs(&mut self, grid: &Grid, bodies: &[RigidBody], n: usize) {
+    fn emit_pairs(&mut self, grid: &Grid, n: usize) {
         let (planes, excluded) = (&self.planes, &self.excluded);
         let kept = |i: usize, j: usize| excluded.is_empty() || excluded.binary_search(&(i.min(j), i.max(j))).is_err();
         // `planes` is in index order: the next plane's place
@@ -217,8 +226,9 @@ impl Colliders {
         for i in 0..n {
             if planes.get(next_plane) == Some(&i) {
                 next_plane += 1;
-                for (k, body) in bodies.iter().enumerate().take(n) {
-                    if k != i && !body.fixed && self.shapes[k].is_some() && !planes.contains(&k) && kept(i, k) {
+                // every free body with a box (not a plane: not `i`)
+                for &k in &grid.free_boxed {
+                    if kept(i, k) {
                         self.pairs.push((i, k));
                     }
                 }
@@ -236,7 +246,7 @@ impl Colliders {
 impl Grid {
     /// The pairs of overlapping boxes among `self.boxed` (boxes `aabbs`, by body) into
     /// `self.found`, in no order: boxes wider than `large_width` (m) as large ones.
-    fn find_pairs(&mut self, aabbs: &[Aabb], bodies: &[RigidBody], large_width: f64) {
+    fn find_pairs(&mut self, aabbs: &[Aabb], large_width: f64) {
         self.found.clear();
         self.large.clear();
         self.small.clear();
@@ -257,14 +267,14 @@ impl Grid {
             }
         }
         let lattice = Lattice::new(lowest, highest, side, CELLS_PER_BOX * self.small.len() as f64 + MIN_CELLS);
-        self.fill_cells(&lattice, aabbs, bodies);
+        self.fill_cells(&lattice, aabbs);
         self.small_pairs(&lattice);
-        self.large_pairs(&lattice, aabbs, bodies);
+        self.large_pairs(&lattice, aabbs);
     }
 
     /// Sorts the small boxes into their cells (a counting sort by cell index): `self.bounds`,
     /// `self.owners`, `self.places` and `self.starts`.
-    fn fill_cells(&mut self, lattice: &Lattice, aabbs: &[Aabb], bodies: &[RigidBody]) {
+    fn fill_cells(&mut self, lattice: &Lattice, aabbs: &[Aabb]) {
         let cells = if self.small.is_empty() { 0 } else { lattice.cells() };
         self.starts.clear();
         self.starts.resize(cells + 2, 0);
@@ -286,7 +296,7 @@ impl Grid {
         for &(body, cell, at) in &self.small {
             let next = &mut self.starts[cell + 1];
             self.bounds[*next] = aabbs[body];
-            self.owners[*next] = (body, bodies[body].fixed);
+            self.owners[*next] = (body, self.fixed[body]);
             self.places[*next] = (cell, at);
             *next += 1;
         }
@@ -352,17 +362,18 @@ impl Grid {
     /// The pairs of each large box with the small boxes whose lower corner is in a cell its box
     /// covers (widened by one cell below), or with every small box when that is fewer; and the
     /// pairs of large boxes.
-    fn large_pairs(&mut self, lattice: &Lattice, aabbs: &[Aabb], bodies: &[RigidBody]) {
+    fn large_pairs(&mut self, lattice: &Lattice, aabbs: &[Aabb]) {
         let (bounds, owners, starts, found) = (&self.bounds, &self.owners, &self.starts, &mut self.found);
+        let fixed_body = &self.fixed;
         for (k, &i) in self.large.iter().enumerate() {
-            let (aabb, fixed) = (&aabbs[i], bodies[i].fixed);
+            let (aabb, fixed) = (&aabbs[i], fixed_body[i]);
             let mut meet = |b: &Aabb, (j, fixed_j): (usize, bool)| {
                 if overlap(aabb, b) && !(fixed && fixed_j) {
                     found.push((i.min(j), i.max(j)));
                 }
             };
             for &j in &self.large[k + 1..] {
-                meet(&aabbs[j], (j, bodies[j].fixed));
+                meet(&aabbs[j], (j, fixed_body[j]));
             }
             if bounds.is_empty() {
                 continue;
