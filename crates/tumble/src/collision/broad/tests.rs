@@ -46,7 +46,7 @@ fn body(spec: &Spec) -> RigidBody {
 /// The candidate pairs by their definition: every pair of bodies with a box whose boxes (as the
 /// broad phase made them) overlap on the three axes, closed, but not two fixed ones; each plane with
 /// every free body with a box; less the excluded pairs; sorted.
-fn every_pair(c: &Colliders, bodies: &[RigidBody]) -> Vec<(usize, usize)> {
+fn every_pair(c: &Colliders, bodies: &[RigidBody]) -> Pairs {
     let plane = |i: usize| c.planes.contains(&i);
     let boxed = |i: usize| c.shapes[i].is_some() && !plane(i);
     let meet = |i: usize, j: usize| {
@@ -70,7 +70,10 @@ fn every_pair(c: &Colliders, bodies: &[RigidBody]) -> Vec<(usize, usize)> {
 }
 
 /// The broad phase's pairs of `bodies` (with `excluded` pairs) and those by definition.
-fn both(bodies: &[RigidBody], excluded: &[(usize, usize)], slop: f64) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
+/// Candidate pairs, `(i, j)` body indices.
+type Pairs = Vec<(usize, usize)>;
+
+fn both(bodies: &[RigidBody], excluded: &[(usize, usize)], slop: f64) -> (Pairs, Pairs) {
     let mut c = Colliders::new(bodies);
     for &(i, j) in excluded {
         c.exclude_pair(i, j);
