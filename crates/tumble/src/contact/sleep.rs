@@ -192,7 +192,7 @@ impl Sleep {
             }
         }
         self.changed = true;
-            self.epoch += 1;
+        self.epoch += 1;
     }
 
     /// Before the narrow phase: wakes the islands whose bodies (or the fixed bodies under them)
