@@ -213,6 +213,11 @@ impl Colliders {
             };
             self.aabbs.push(aabb);
         }
+        // every body with a box asleep or fixed (a pile at rest): no pair to find
+        if grid.free_boxed.is_empty() {
+            self.grid = grid;
+            return;
+        }
         let large_width = LARGE_FACTOR * width_sum / widths.max(1) as f64;
         grid.find_pairs(&self.aabbs, large_width);
         grid.sort_pairs(n);
