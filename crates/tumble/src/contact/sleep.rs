@@ -354,25 +354,24 @@ impl Sleep {
         }
         // an island with an awake body not still long enough, or a sleeping body (which a contact
         // joins to awake ones only in the step in which it woke), may not sleep
-        for i in 0..n {
-            if bodies[i].fixed {
+        for (i, b) in bodies.iter().enumerate() {
+            if b.fixed {
                 continue;
             }
             let r = find(&mut self.parent, i);
-            if self.asleep[i] || self.still[i] < settings.sleep_time || bodies[i].shape.is_none() {
+            if self.asleep[i] || self.still[i] < settings.sleep_time || b.shape.is_none() {
                 self.blocked[r] = true;
             }
         }
         let mut energy = 0.0;
-        for i in 0..n {
-            if bodies[i].fixed || self.asleep[i] {
+        for (i, b) in bodies.iter_mut().enumerate() {
+            if b.fixed || self.asleep[i] {
                 continue;
             }
             let r = find(&mut self.parent, i);
             if !self.grounded[r] || self.blocked[r] {
                 continue;
             }
-            let b = &mut bodies[i];
             energy += b.kinetic_energy();
             b.state.velocity = DVec3::ZERO;
             b.state.omega_body = DVec3::ZERO;
