@@ -1,14 +1,17 @@
 //! Runs the contact scenes in tumble and in Rapier, single-threaded, side by side: wall time per step,
 //! the ratio, and the stability of the pyramid (the largest displacement of a body after the run).
 //!
-//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [--threads N] [SCENE.toml ...]`
-//! (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5 repetitions, tumble on
-//! one thread; `--threads N` gives tumble's collision detection N threads, Rapier stays on one).
+//! Usage: `cargo run --release -p rapier-compare -- [STEPS] [--reps N] [--threads N] [--sleep-speed V]
+//! [SCENE.toml ...]` (default: 1,000 steps of `scenes/pyramid.toml` and `scenes/balls.toml`, 5
+//! repetitions, tumble on one thread; `--threads N` gives tumble's collision detection N threads,
+//! Rapier stays on one; `--sleep-speed V` sets tumble's `sleep_speed`, m/s — Rapier's default
+//! thresholds are 0.05 m/s and 0.5 rad/s, tumble's default 0.01 m/s on `‖v‖ + ρ ‖ω‖`).
 //!
-//! The machine's speed drifts (other builds share its cores), so each repetition runs the three
-//! engines one after the other — Rapier, tumble, and tumble with its manifolds made afresh at every
-//! step (`Colliders::set_reuse_fraction(0)`, the narrow phase before they were kept) — and the
-//! tables give the median over the repetitions of each time and of each repetition's ratio.
+//! The machine's speed drifts (other builds share its cores), so each repetition runs the engines
+//! one after the other — Rapier and tumble with sleeping off (every body solved at every step: the
+//! work of a step), then both with sleeping on (each engine's default: islands at rest fall asleep)
+//! — and the tables give the median over the repetitions of each time and of each repetition's
+//! ratio.
 //! tumble runs with its per-stage timing on (`World::set_profiling`, two clock reads per stage and
 //! step) and Rapier with its `profiler` counters, which give the second table: the time per step
 //! of each stage. A scene with
@@ -19,7 +22,7 @@
 //! The Rapier world is built from the tumble world the scene loader produced: same shapes, poses,
 //! velocities, masses (Rapier computes the inertia from the shape and the mass, as tumble does for a
 //! `mass` with a shape), friction and restitution (equal on every body in these scenes, so the two
-//! engines' combine rules agree), `dt` and gravity. Sleeping is off in Rapier, as tumble has none.
+//! engines' combine rules agree), `dt` and gravity.
 
 use rapier3d_f64::prelude::*;
 use std::path::Path;
@@ -27,7 +30,7 @@ use std::time::Instant;
 use tumble::body::Shape;
 use tumble::math::{DQuat, DVec3};
 
-fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHandle>>) {
+fn rapier_world(world: &tumble::World, sleep: bool) -> (PhysicsWorld, Vec<Option<RigidBodyHandle>>) {
     let mut rw = PhysicsWorld { gravity: world.config.gravity, ..PhysicsWorld::default() };
     rw.integration_parameters.dt = world.config.dt;
     let contact = world.config.contact;
@@ -84,7 +87,7 @@ fn rapier_world(world: &tumble::World) -> (PhysicsWorld, Vec<Option<RigidBodyHan
             .linvel(b.state.velocity)
             .angvel(b.state.omega_world())
             .gravity_scale(b.gravity_scale)
-            .can_sleep(false);
+            .can_sleep(sleep);
         let (handle, _) = rw.insert(body, collider);
         handles.push(Some(handle));
     }
@@ -99,14 +102,13 @@ struct Run {
     stages: [f64; 5],
     /// tumble: convex pairs and reused manifolds per step.
     pairs: (f64, f64),
+    /// Bodies asleep at the end.
+    asleep: usize,
 }
 
-fn run_tumble(mut world: tumble::World, steps: usize, reuse: bool) -> Run {
+fn run_tumble(mut world: tumble::World, steps: usize, sleep: bool) -> Run {
     let start: Vec<DVec3> = world.bodies.iter().map(|b| b.state.position).collect();
-    if !reuse {
-        let bodies = world.bodies.clone();
-        world.contact_stage().colliders_mut(&bodies).set_reuse_fraction(0.0);
-    }
+    world.config.contact.sleep = sleep;
     world.set_profiling(true);
     let t = Instant::now();
     for _ in 0..steps {
@@ -125,11 +127,12 @@ fn run_tumble(mut world: tumble::World, steps: usize, reuse: bool) -> Run {
         .fold(0.0, f64::max);
     let p = world.profile().expect("profiling is on").per_step();
     let stages = [p.broad_phase, p.narrow_phase, p.impacts, p.resting, p.integration].map(|s| s * 1e3);
-    Run { ms_per_step, largest_displacement, stages, pairs: (p.pairs, p.reused) }
+    let asleep = world.contacts().sleep().count();
+    Run { ms_per_step, largest_displacement, stages, pairs: (p.pairs, p.reused), asleep }
 }
 
-fn run_rapier(world: &tumble::World, steps: usize) -> Run {
-    let (mut rw, handles) = rapier_world(world);
+fn run_rapier(world: &tumble::World, steps: usize, sleep: bool) -> Run {
+    let (mut rw, handles) = rapier_world(world, sleep);
     let mut stages = [0.0; 5];
     let t = Instant::now();
     for _ in 0..steps {
@@ -152,7 +155,8 @@ fn run_rapier(world: &tumble::World, steps: usize) -> Run {
         .filter(|(b, _)| !b.fixed)
         .filter_map(|(b, h)| h.map(|h| (rw.bodies[h].translation() - b.state.position).length()))
         .fold(0.0, f64::max);
-    Run { ms_per_step, largest_displacement, stages: stages.map(|s| s / steps as f64), pairs: (0.0, 0.0) }
+    let asleep = rw.bodies.iter().filter(|(_, b)| b.is_dynamic() && b.is_sleeping()).count();
+    Run { ms_per_step, largest_displacement, stages: stages.map(|s| s / steps as f64), pairs: (0.0, 0.0), asleep }
 }
 
 fn median(mut xs: Vec<f64>) -> f64 {
@@ -195,6 +199,15 @@ fn main() {
         });
         args.drain(at..at + 2);
     }
+    let mut sleep_speed = None;
+    if let Some(at) = args.iter().position(|a| a == "--sleep-speed") {
+        sleep_speed =
+            Some(args.get(at + 1).and_then(|n| n.parse::<f64>().ok()).filter(|v| *v >= 0.0).unwrap_or_else(|| {
+                eprintln!("--sleep-speed takes a speed ≥ 0 (m/s)");
+                std::process::exit(2);
+            }));
+        args.drain(at..at + 2);
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let scenes: Vec<String> = if args.is_empty() {
         ["scenes/pyramid.toml", "scenes/balls.toml"].iter().map(|s| root.join(s).display().to_string()).collect()
@@ -213,39 +226,45 @@ fn main() {
         };
         let mut world = scene.world;
         world.set_threads(threads);
-        let (mut rapier, mut tumble, mut before) = (Vec::new(), Vec::new(), Vec::new());
+        if let Some(v) = sleep_speed {
+            world.config.contact.sleep_speed = v;
+        }
+        // awake: sleeping off in both engines (the work of every step); asleep: both engines'
+        // default, islands at rest fall asleep
+        let mut runs: [Vec<Run>; 4] = Default::default();
         for _ in 0..reps {
-            rapier.push(run_rapier(&world, steps));
-            tumble.push(run_tumble(world.clone(), steps, true));
-            before.push(run_tumble(world.clone(), steps, false));
+            runs[0].push(run_rapier(&world, steps, false));
+            runs[1].push(run_tumble(world.clone(), steps, false));
+            runs[2].push(run_rapier(&world, steps, true));
+            runs[3].push(run_tumble(world.clone(), steps, true));
         }
         let name = Path::new(&path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or(path.clone());
-        results.push((name, world.bodies.len(), rapier, tumble, before));
+        results.push((name, world.bodies.len(), runs));
     }
     println!();
-    println!("| scene | bodies | tumble ms/step | tumble, manifolds made every step | Rapier ms/step | tumble/Rapier | before/Rapier | largest displacement tumble (m) | before (m) | Rapier (m) |");
+    println!("| scene | bodies | sleeping | tumble ms/step | Rapier ms/step | tumble/Rapier | largest displacement tumble (m) | Rapier (m) | asleep at the end, tumble | Rapier |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
-    for (name, n, rapier, tumble, before) in &results {
-        let ratio =
-            |runs: &[Run]| median(runs.iter().zip(rapier).map(|(t, r)| t.ms_per_step / r.ms_per_step).collect());
-        println!(
-            "| {name} | {n} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.5} | {:.5} | {:.4} |",
-            med(tumble, |r| r.ms_per_step),
-            med(before, |r| r.ms_per_step),
-            med(rapier, |r| r.ms_per_step),
-            ratio(tumble),
-            ratio(before),
-            med(tumble, |r| r.largest_displacement),
-            med(before, |r| r.largest_displacement),
-            med(rapier, |r| r.largest_displacement),
-        );
+    for (name, n, runs) in &results {
+        for (label, rapier, tumble) in [("off", &runs[0], &runs[1]), ("on", &runs[2], &runs[3])] {
+            let ratio = median(tumble.iter().zip(rapier).map(|(t, r)| t.ms_per_step / r.ms_per_step).collect());
+            println!(
+                "| {name} | {n} | {label} | {:.3} | {:.3} | {:.2} | {:.5} | {:.5} | {:.0} | {:.0} |",
+                med(tumble, |r| r.ms_per_step),
+                med(rapier, |r| r.ms_per_step),
+                ratio,
+                med(tumble, |r| r.largest_displacement),
+                med(rapier, |r| r.largest_displacement),
+                med(tumble, |r| r.asleep as f64),
+                med(rapier, |r| r.asleep as f64),
+            );
+        }
     }
-    for (name, _, rapier, tumble, before) in &results {
+    for (name, _, runs) in &results {
         println!();
         println!("{name}: ms per step by stage (median of {reps})");
         println!();
-        println!("| stage | tumble, manifolds made every step | tumble | Rapier |");
-        println!("|---|---|---|---|");
+        println!("| stage | tumble, sleeping off | Rapier, sleeping off | tumble, sleeping on | Rapier, sleeping on |");
+        println!("|---|---|---|---|---|");
         let stage = |runs: &[Run], k: usize| med(runs, |r| r.stages[k]);
         let rows = [
             ("broad phase", 0, Some(0)),
@@ -255,22 +274,33 @@ fn main() {
             ("integration", 4, None),
         ];
         for (label, k, rk) in rows {
-            let r = rk.map_or("—".to_string(), |rk| format!("{:.3}", stage(rapier, rk)));
-            println!("| {label} | {:.3} | {:.3} | {r} |", stage(before, k), stage(tumble, k));
+            let r = |runs: &[Run]| rk.map_or("—".to_string(), |rk| format!("{:.3}", stage(runs, rk)));
+            println!(
+                "| {label} | {:.3} | {} | {:.3} | {} |",
+                stage(&runs[1], k),
+                r(&runs[0]),
+                stage(&runs[3], k),
+                r(&runs[2])
+            );
         }
-        println!("| Rapier's other stages (islands, integration, user changes) | | | {:.3} |", stage(rapier, 3));
         println!(
-            "| whole step | {:.3} | {:.3} | {:.3} |",
-            med(before, |r| r.ms_per_step),
-            med(tumble, |r| r.ms_per_step),
-            med(rapier, |r| r.ms_per_step)
+            "| Rapier's other stages (islands, integration, user changes) | | {:.3} | | {:.3} |",
+            stage(&runs[0], 3),
+            stage(&runs[2], 3)
         );
         println!(
-            "| convex pairs per step, manifolds reused | {:.0}, {:.0} | {:.0}, {:.0} | |",
-            med(before, |r| r.pairs.0),
-            med(before, |r| r.pairs.1),
-            med(tumble, |r| r.pairs.0),
-            med(tumble, |r| r.pairs.1)
+            "| whole step | {:.3} | {:.3} | {:.3} | {:.3} |",
+            med(&runs[1], |r| r.ms_per_step),
+            med(&runs[0], |r| r.ms_per_step),
+            med(&runs[3], |r| r.ms_per_step),
+            med(&runs[2], |r| r.ms_per_step)
+        );
+        println!(
+            "| convex pairs per step, manifolds reused | {:.0}, {:.0} | | {:.0}, {:.0} | |",
+            med(&runs[1], |r| r.pairs.0),
+            med(&runs[1], |r| r.pairs.1),
+            med(&runs[3], |r| r.pairs.0),
+            med(&runs[3], |r| r.pairs.1)
         );
     }
 }

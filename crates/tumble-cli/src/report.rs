@@ -120,6 +120,9 @@ pub fn table(
     if contacts {
         row("collisions", format!("{} ({} J lost)", c.collisions, joules(c.energy_lost_in_collisions)));
         row("friction, resting contact", format!("{} J lost", joules(c.energy_lost_in_friction)));
+        if c.asleep_at_end > 0 {
+            row("asleep at the end", format!("{} of {} free bodies", c.asleep_at_end, s.free_bodies));
+        }
         let lost = c.energy_lost_in_collisions + c.energy_lost_in_friction;
         let balance = s.energy.initial - s.energy.final_ - lost;
         let mut share =

@@ -236,6 +236,12 @@ impl World {
         self.world.contact_collisions()
     }
 
+    /// Free bodies asleep now: islands at rest on a fixed body (`[world] sleep`); they wake when
+    /// touched, or when `set_state` or a force changes one of them.
+    fn asleep(&self) -> usize {
+        self.world.contacts().sleep().count()
+    }
+
     fn __repr__(&self) -> String {
         format!("World(t={}, steps={}, nstate={})", self.world.time(), self.world.steps(), self.world.state_len())
     }

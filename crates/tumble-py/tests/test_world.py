@@ -253,6 +253,16 @@ position = [0.0, 0.0, 0.1]
     assert len(contacts) >= 3
     total = sum(c["force"] if c["b"] == "box" else -c["force"] for c in contacts)
     assert np.allclose(total, [0.0, 0.0, 2.0 * 9.81], rtol=1e-6, atol=1e-9)
+    # at rest for 1.5 s it is asleep: not moved, its contacts still hold it up
+    assert w.asleep() == 1
+    x = w.state()
+    w.step(10)
+    assert np.array_equal(w.state(), x)
+    # a state set from Python wakes it: thrown up, it leaves the floor
+    x[7:10] = [0.0, 0.0, 1.0]  # velocity (m/s)
+    w.set_state(x)
+    w.step(25)  # 0.1 s: up by 1 m/s × 0.1 s − ½ g (0.1 s)² = 0.051 m
+    assert w.asleep() == 0 and w.state()[2] > 0.1 + 0.04
 
 
 def test_divergence_raises_and_keeps_the_last_finite_state(projectile):

@@ -15,9 +15,18 @@ use std::path::Path;
 use tumble::World;
 
 /// `(scene, steps, golden hash of the state after that many steps)`: the pyramid and the balls 5 s
-/// at `dt = 1/60`, past the pyramid's settling and the balls' landing; the quadruped 0.4 s at
-/// `dt = 1e-3`, past its feet's landing (link contacts on the floor).
+/// at `dt = 1/60`, past the pyramid's settling and the balls' landing (both asleep by then); the
+/// quadruped 0.4 s at `dt = 1e-3`, past its feet's landing (link contacts on the floor; robots do
+/// not sleep).
 const GOLDEN: [(&str, u64, u64); 3] = [
+    ("pyramid", 300, 0xb523_f40f_b5ea_34ec),
+    ("balls", 300, 0x26a1_2a4d_f7b3_1ba5),
+    ("quadruped", 400, 0x6e62_0081_2b7f_11ff),
+];
+
+/// The same with sleeping off (`sleep = false`): the values from before sleeping existed, which
+/// the step must still give bit for bit.
+const GOLDEN_AWAKE: [(&str, u64, u64); 3] = [
     ("pyramid", 300, 0x49f2_bfdd_6a16_8174),
     ("balls", 300, 0x7dd2_4454_3f7c_0cad),
     ("quadruped", 400, 0x6e62_0081_2b7f_11ff),
@@ -54,6 +63,20 @@ fn check(scene: &str) {
             hash, golden,
             "{scene}: with {threads} threads the state hashes to {hash:#018x}, not {golden:#018x}"
         );
+    }
+}
+
+/// With sleeping off, every scene gives its value from before sleeping existed (1 and 2 threads).
+#[test]
+fn sleeping_off_changes_no_bit() {
+    for (scene, steps, golden) in GOLDEN_AWAKE {
+        for threads in [1, 2] {
+            let hash = final_hash(scene, steps, |w| {
+                w.set_threads(threads);
+                w.config.contact.sleep = false;
+            });
+            assert_eq!(hash, golden, "{scene}, sleeping off, {threads} threads: {hash:#018x}, not {golden:#018x}");
+        }
     }
 }
 

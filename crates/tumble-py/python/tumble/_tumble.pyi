@@ -133,6 +133,9 @@ class World:
         ``a`` to ``b``), ``depth`` (> 0: overlap) and ``force`` (N, on ``b``: the step's impulse over dt)."""
     def collisions(self) -> int:
         """Collisions resolved since the start."""
+    def asleep(self) -> int:
+        """Free bodies asleep now: islands at rest on a fixed body (``[world] sleep``); they wake
+        when touched, or when ``set_state`` or a force changes one of them."""
 
 @overload
 def rollout(

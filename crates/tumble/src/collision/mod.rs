@@ -11,12 +11,13 @@
 //!    plane → `HalfSpace` (outward normal body +z), convex → `ConvexPolyhedron`, compound →
 //!    `Compound` of its parts; a mesh → `TriMesh` on a fixed body, else the `Compound` of its convex
 //!    decomposition when it has one, else its convex hull ([`parry_shape`]).
-//! 2. **Broad phase** (module `broad`): sort and sweep over each body's *swept* bounding box (its
-//!    box at the start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
+//! 2. **Broad phase** (module `broad`): the pairs whose *swept* bounding boxes overlap (a box at the
+//!    start of the step grown by the distance it can travel in `dt`, `|v| dt + |ω| ρ dt +
 //!    ½|g_body| dt²`, `ρ` the bounding radius, `g_body` the body's gravity `gravity_scale · g`),
-//!    along the axis of the widest spread of the boxes, by an insertion sort of the last step's
-//!    order. Pairs of fixed bodies are never tested; planes (unbounded) are paired with every free
-//!    body. Cost `O(n + swaps + k)` for `k` boxes overlapping along the axis.
+//!    found with a uniform grid: each box in the cell of its lower corner, each cell tested against
+//!    its neighbours once, the few boxes much wider than the mean against the cells they cover.
+//!    Pairs of fixed bodies are never tested; planes (unbounded) are paired with every free body.
+//!    Cost `O(n + cells + tests)`, about 14 box tests per box in a pile.
 //! 3. **Narrow phase**: parry's contact manifold of each candidate pair with a prediction distance
 //!    equal to the two bodies' sweeps, giving up to four points with their signed distance. A pair
 //!    of convex shapes (the common case) takes one convex–convex manifold, kept from step to step
@@ -25,15 +26,15 @@
 //!    or a triangle mesh takes parry's composite manifolds (one per pair of touching sub-shapes,
 //!    module `composite`), with parry's workspace kept per pair from step to step.
 //!
-//! With a thread pool (the world's `threads`), the narrow phase and the sweep share their pairs out
-//! in chunks and gather the results in pair order (module `parallel`): the contacts are the same
+//! With a thread pool (the world's `threads`), the narrow phase shares its pairs out in chunks and
+//! gathers the results in pair order (module `parallel`): the contacts are the same
 //! bit for bit for any number of threads.
 //!
 //! Frames: every output is in the world frame. A body's shape is placed by its `world_from_user`
 //! pose (shapes are given in the user's body axes, centred on the centre of mass).
 //!
-//! References: parry's `contact_manifolds`; D. Baraff, "Dynamic simulation of non-penetrating rigid
-//! bodies" (1992), ch. 6 (sort and sweep).
+//! References: parry's `contact_manifolds`; C. Ericson, *Real-Time Collision Detection* (2005),
+//! §7.1 (uniform grids).
 
 mod broad;
 mod overlap;
@@ -104,11 +105,8 @@ pub struct Colliders {
     excluded: Vec<(usize, usize)>,
     aabbs: Vec<Aabb>,
     sweeps: Vec<f64>,
-    /// The bodies with a box, sorted along the sweep axis (kept: the next sort starts from it).
-    order: Vec<usize>,
-    /// The sweep axis (0, 1, 2: x, y, z) and the boxes in sorted order (module `broad`).
-    axis: usize,
-    sorted: Vec<broad::SweepBox>,
+    /// The broad phase's grid and buffers (module `broad`).
+    grid: broad::Grid,
     pairs: Vec<(usize, usize)>,
     /// The manifold of each pair of convex shapes, kept across steps (module `pairs`).
     manifolds: pairs::PairManifolds,
@@ -189,9 +187,7 @@ impl Colliders {
             excluded: Vec::new(),
             aabbs: Vec::new(),
             sweeps: Vec::new(),
-            order: Vec::new(),
-            axis: 0,
-            sorted: Vec::new(),
+            grid: broad::Grid::default(),
             pairs: Vec::new(),
             manifolds: pairs::PairManifolds::default(),
             reuse_fraction: REUSE_FRACTION,
@@ -213,7 +209,6 @@ impl Colliders {
         self.composite.clear();
         self.composite_pairs.clear();
         self.manifolds.clear();
-        self.order.clear();
         for (i, body) in bodies.iter().enumerate() {
             let Some(shape) = &body.shape else {
                 self.shapes.push(None);
@@ -242,7 +237,7 @@ impl Colliders {
         self.reuse_fraction = fraction.max(0.0);
     }
 
-    /// Runs the narrow phase (and the broad phase's sweep) on `pool`'s threads, or on the caller's
+    /// Runs the narrow phase on `pool`'s threads, or on the caller's
     /// alone for `None`; the contacts are the same bit for bit either way.
     pub fn set_thread_pool(&mut self, pool: Option<&std::sync::Arc<rayon::ThreadPool>>) {
         let same = match (&self.pool, pool) {
@@ -287,19 +282,27 @@ impl Colliders {
         Pose::from_parts(b.state.position, b.orientation_user()) * self.shape_offsets[i]
     }
 
+    /// The radius of body `i`'s bounding sphere about its centre of mass (m); 0 for a plane or a
+    /// body without a shape.
+    pub fn radius(&self, i: usize) -> f64 {
+        self.radii.get(i).copied().unwrap_or(0.0)
+    }
+
     /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
     /// the distance they can close during `dt` (s) under `gravity` (the world's, m/s², world frame,
     /// scaled by each body's `gravity_scale`), plus `slop` (m) or [`PREDICTION_MARGIN`], whichever
     /// is larger.
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
-        self.find_contacts_profiled(bodies, dt, gravity, slop, out, None);
+        self.find_contacts_profiled(bodies, &[], dt, gravity, slop, out, None);
     }
 
     /// [`Self::find_contacts`], adding the time of the broad and narrow phases and the narrow
     /// phase's counts to `profile` when given.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn find_contacts_profiled(
         &mut self,
         bodies: &[RigidBody],
+        asleep: &[bool],
         dt: f64,
         gravity: DVec3,
         slop: f64,
@@ -309,7 +312,8 @@ impl Colliders {
         let mut clock = crate::world::Clock::start(profile.is_some());
         out.clear();
         // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
-        self.broad_phase(bodies, dt, gravity, slop.max(PREDICTION_MARGIN));
+        // two bodies that are each asleep or fixed keep their contacts (`contact::sleep`)
+        self.broad_phase(bodies, asleep, dt, gravity, slop.max(PREDICTION_MARGIN));
         let broad = clock.lap();
         let pairs = std::mem::take(&mut self.pairs);
         let mut manifolds = std::mem::take(&mut self.manifolds);

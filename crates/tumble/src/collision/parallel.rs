@@ -38,12 +38,10 @@ pub(super) struct Chunks {
     contacts: Vec<Vec<Contact>>,
     /// One slot per convex pair, in pair order.
     slots: Vec<Slot>,
-    /// The broad phase's pairs found by each chunk of the sweep.
-    pub(super) pairs: Vec<Vec<(usize, usize)>>,
 }
 
 /// The length of the chunks that cut `n` items for `threads` threads: at least 1.
-pub(super) fn chunk_len(n: usize, threads: usize) -> usize {
+fn chunk_len(n: usize, threads: usize) -> usize {
     n.div_ceil((threads * CHUNKS_PER_THREAD).max(1)).max(1)
 }
 

@@ -85,7 +85,10 @@ impl ContactStage {
         seq.epochs.resize(n, 0);
         seq.queue.clear();
         for ci in 0..self.contacts.len() {
-            self.schedule(ci, settings, dt, lead);
+            // two bodies asleep or fixed do not move
+            if !self.frozen[ci] {
+                self.schedule(ci, settings, dt, lead);
+            }
         }
         if self.sequence.queue.is_empty() {
             return;

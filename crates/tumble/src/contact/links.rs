@@ -238,6 +238,14 @@ impl LinkStage {
         self.contacts = contacts;
     }
 
+    /// The free bodies the links' contacts of the step touch (with repeats).
+    pub(super) fn touched_bodies(&self) -> impl Iterator<Item = usize> + '_ {
+        self.contacts.iter().flat_map(|c| [c.a, c.b]).filter_map(|s| match s {
+            crate::collision::links::Side::Body(i) => Some(i),
+            crate::collision::links::Side::Link(_) => None,
+        })
+    }
+
     /// Whether the step has link contacts.
     pub(super) fn is_empty(&self) -> bool {
         self.contacts.is_empty()

@@ -34,6 +34,7 @@ pub mod batch;
 mod collisions;
 pub mod impact;
 pub mod links;
+pub mod sleep;
 pub mod solver;
 
 pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
@@ -71,6 +72,14 @@ pub struct ContactSettings {
     pub damping_ratio: f64,
     /// Largest speed of the position correction (m/s). Default `3` (Box2D's `contactSpeed`).
     pub max_correction_speed: f64,
+    /// Whether islands of bodies at rest on a fixed body fall asleep (module [`sleep`]). Default
+    /// `true`.
+    pub sleep: bool,
+    /// Speed below which a body is still: `|v| + ρ |ω|`, `ρ` its bounding radius (m/s). Default
+    /// `0.01`.
+    pub sleep_speed: f64,
+    /// Time every body of an island must have been still before it falls asleep (s). Default `0.5`.
+    pub sleep_time: f64,
 }
 
 impl Default for ContactSettings {
@@ -87,6 +96,9 @@ impl Default for ContactSettings {
             hertz: 60.0,
             damping_ratio: 10.0,
             max_correction_speed: 3.0,
+            sleep: true,
+            sleep_speed: 0.01,
+            sleep_time: 0.5,
         }
     }
 }
@@ -146,6 +158,19 @@ pub struct ContactStage {
     gravity: DVec3,
     /// The previous step's contacts and their impulses, sorted by pair (warm starting).
     previous: Vec<Previous>,
+    /// Each contact's accumulated impulses at the end of the step (N·s); aligned with `contacts`.
+    lambdas: Vec<[f64; 3]>,
+    /// Per contact: both bodies fixed or asleep (kept from when they fell asleep, not solved).
+    frozen: Vec<bool>,
+    /// The contact of each constraint (the contacts that are not frozen).
+    constrained: Vec<usize>,
+    /// The narrow phase's contacts, before the frozen ones are merged in.
+    fresh: Vec<Contact>,
+    /// Islands and sleeping (module [`sleep`]).
+    sleep: sleep::Sleep,
+    /// The sleep epoch in which the contacts were all kept ones of sleeping pairs (the narrow
+    /// phase found none): while it holds, the step has nothing to do.
+    steady: Option<u64>,
     /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
     pub links: links::LinkStage,
     /// Energy dissipated so far.
@@ -235,26 +260,52 @@ impl ContactStage {
         if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
             self.contacts.clear();
             self.impulses.clear();
+            self.lambdas.clear();
+            self.frozen.clear();
             self.links.clear();
+            self.sleep.wake_all();
+            self.steady = None;
             return;
         }
-        let mut contacts = std::mem::take(&mut self.contacts);
+        self.colliders_mut(bodies);
+        self.fall_asleep(bodies, settings, gravity, dt);
+        let mut fresh = std::mem::take(&mut self.fresh);
         let mut profile = self.profile.take();
-        self.colliders_mut(bodies).find_contacts_profiled(
+        let asleep = self.sleep.asleep();
+        self.colliders.as_mut().expect("built above").find_contacts_profiled(
             bodies,
+            asleep,
             dt,
             gravity,
             settings.slop,
-            &mut contacts,
+            &mut fresh,
             profile.as_mut(),
         );
         self.profile = profile;
-        self.contacts = contacts;
-        self.impulses.clear();
-        self.impulses.resize(self.contacts.len(), DVec3::ZERO);
+        // nothing awake touches anything, and nobody fell asleep or woke since the last step: the
+        // contacts, their impulses and the warm starts are the last step's
+        let epoch = self.sleep.epoch();
+        let steady = fresh.is_empty() && self.steady == Some(epoch);
+        if !steady {
+            self.merge_frozen(bodies, &fresh);
+        }
+        self.steady = fresh.is_empty().then_some(epoch);
+        self.fresh = fresh;
         if !self.links.colliders.is_empty() {
             let colliders = self.colliders.as_ref().expect("built above");
             self.links.detect(colliders, bodies, robots, dt, settings.slop);
+        }
+        if self.sleep.wake_touched(bodies, &self.contacts, self.links.touched_bodies()) {
+            self.steady = None;
+            // the contacts of an island that woke are solved in this step
+            for (k, c) in self.contacts.iter().enumerate() {
+                if self.frozen[k] && !(self.sleep.resting(bodies, c.a) && self.sleep.resting(bodies, c.b)) {
+                    self.frozen[k] = false;
+                    self.impulses[k] = DVec3::ZERO;
+                }
+            }
+        } else if steady && self.links.is_empty() {
+            return;
         }
         if self.contacts.is_empty() && self.links.is_empty() {
             self.previous.clear();
@@ -277,6 +328,68 @@ impl ContactStage {
             p.impacts += impacts;
             p.resting += clock.lap();
         }
+    }
+
+    /// At the start of the step: wakes the islands the caller changed, then puts to sleep the
+    /// islands that have been still long enough, from the last step's contacts (module [`sleep`]).
+    fn fall_asleep(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+        self.sleep.resize(bodies.len());
+        if !settings.sleep {
+            self.sleep.wake_all();
+            return;
+        }
+        self.sleep.wake_changed(bodies, gravity);
+        let colliders = self.colliders.as_ref().expect("built by the caller");
+        let lost = self.sleep.update(
+            bodies,
+            |i| colliders.radius(i),
+            &self.contacts,
+            &self.impulses,
+            &self.lambdas,
+            self.links.touched_bodies(),
+            settings,
+            gravity,
+            dt,
+        );
+        self.energy.friction += lost;
+    }
+
+    /// The contacts of the step: the narrow phase's (`fresh`) and, merged in pair order, the kept
+    /// contacts of pairs whose bodies are both asleep or fixed, with their impulses and
+    /// accumulated impulses.
+    fn merge_frozen(&mut self, bodies: &[RigidBody], fresh: &[Contact]) {
+        self.contacts.clear();
+        self.impulses.clear();
+        self.lambdas.clear();
+        self.frozen.clear();
+        let kept = self.sleep.frozen.iter().filter(|f| {
+            let c = &f.contact;
+            self.sleep.resting(bodies, c.a) && self.sleep.resting(bodies, c.b)
+        });
+        let mut kept = kept.peekable();
+        for c in fresh {
+            while let Some(f) = kept.next_if(|f| (f.contact.a, f.contact.b) < (c.a, c.b)) {
+                self.contacts.push(f.contact);
+                self.impulses.push(f.impulse);
+                self.lambdas.push(f.lambda);
+                self.frozen.push(true);
+            }
+            self.contacts.push(*c);
+            self.impulses.push(DVec3::ZERO);
+            self.lambdas.push([0.0; 3]);
+            self.frozen.push(false);
+        }
+        for f in kept {
+            self.contacts.push(f.contact);
+            self.impulses.push(f.impulse);
+            self.lambdas.push(f.lambda);
+            self.frozen.push(true);
+        }
+    }
+
+    /// The islands and their sleep (module [`sleep`]).
+    pub fn sleep(&self) -> &sleep::Sleep {
+        &self.sleep
     }
 
     /// After the integration: puts the bodies held by resting contacts where the substeps moved
@@ -306,9 +419,9 @@ impl ContactStage {
     fn load_bodies(&mut self, bodies: &[RigidBody], gravity: DVec3) {
         self.bodies.clear();
         self.positions.clear();
-        for b in bodies {
+        for (i, b) in bodies.iter().enumerate() {
             let mut sb = SolverBody { v: b.state.velocity, w: b.state.omega_world(), ..SolverBody::FIXED };
-            if !b.fixed {
+            if !b.fixed && !self.sleep.is_asleep(i) {
                 let r = DMat3::from_quat(b.state.orientation);
                 sb.inv_mass = b.mass.inv_mass;
                 sb.inv_inertia = crate::math::change_frame(r, DMat3::from_diagonal(b.mass.inv_inertia_body));
@@ -321,8 +434,8 @@ impl ContactStage {
 
     /// Writes the solver's velocities back to the bodies (world → body frame for ω).
     fn store_velocities(&self, bodies: &mut [RigidBody]) {
-        for (b, sb) in bodies.iter_mut().zip(&self.bodies) {
-            if !b.fixed {
+        for (i, (b, sb)) in bodies.iter_mut().zip(&self.bodies).enumerate() {
+            if !b.fixed && !self.sleep.is_asleep(i) {
                 b.state.velocity = sb.v;
                 b.set_omega_world(sb.w);
             }
@@ -347,7 +460,12 @@ impl ContactStage {
         self.predicted.clear();
         self.predicted.extend(self.bodies.iter().map(|sb| (sb.v, sb.w)));
         self.constraints.clear();
-        for c in &self.contacts {
+        self.constrained.clear();
+        for (ci, c) in self.contacts.iter().enumerate() {
+            if self.frozen[ci] {
+                continue;
+            }
+            self.constrained.push(ci);
             let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
             let softness = if bodies[c.a].fixed || bodies[c.b].fixed { soft_fixed } else { soft };
             let mut k = Constraint::new(
@@ -437,21 +555,16 @@ impl ContactStage {
                 }
             }
         }
-        for ((p, sum), k) in self.impulses.iter_mut().zip(&self.lambda_sums).zip(constraints.iter()) {
-            *p += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
+        for ((&ci, sum), k) in self.constrained.iter().zip(&self.lambda_sums).zip(constraints.iter()) {
+            self.impulses[ci] += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
+            self.lambdas[ci] = k.lambda;
         }
         if with_links {
             links.finish(robots, dt);
         }
         self.previous.clear();
-        for (c, k) in self.contacts.iter().zip(&self.constraints) {
-            self.previous.push(Previous {
-                a: c.a,
-                b: c.b,
-                features: c.features,
-                point_world: c.point_world,
-                lambda: k.lambda,
-            });
+        for (c, &lambda) in self.contacts.iter().zip(&self.lambdas) {
+            self.previous.push(Previous { a: c.a, b: c.b, features: c.features, point_world: c.point_world, lambda });
         }
         // the contacts come grouped by pair, in pair order (`Colliders::find_contacts`); a stable
         // sort keeps the order within a pair otherwise
@@ -550,6 +663,8 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
             "must be finite and ≥ 0 (m/s)",
             s.max_correction_speed,
         ),
+        ("sleep_speed", nonneg(s.sleep_speed), "must be finite and ≥ 0 (m/s)", s.sleep_speed),
+        ("sleep_time", nonneg(s.sleep_time), "must be finite and ≥ 0 (s)", s.sleep_time),
     ];
     for (field, ok, problem, value) in checks {
         if !ok {

@@ -212,6 +212,8 @@ fn world_config(
             "contact_substeps" => span(w.contact_substeps.as_ref().and_then(|l| l.span.clone())),
             "max_correction_speed" => span(w.max_correction_speed.as_ref().and_then(|l| l.span.clone())),
             "contact_iterations" => span(w.contact_iterations.as_ref().and_then(|l| l.span.clone())),
+            "sleep_speed" => span(w.sleep_speed.as_ref().and_then(|l| l.span.clone())),
+            "sleep_time" => span(w.sleep_time.as_ref().and_then(|l| l.span.clone())),
             _ => table.span.clone(),
         };
         let field = if e.field == "slop" { "contact_slop" } else { e.field };
@@ -239,6 +241,9 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
     if let Some(l) = &w.contacts {
         c.enabled = l.value;
     }
+    if let Some(l) = &w.sleep {
+        c.sleep = l.value;
+    }
     let scalars = [
         ("restitution", &w.restitution, &mut c.restitution),
         ("friction", &w.friction, &mut c.friction),
@@ -247,6 +252,8 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
         ("contact_hertz", &w.contact_hertz, &mut c.hertz),
         ("contact_damping_ratio", &w.contact_damping_ratio, &mut c.damping_ratio),
         ("max_correction_speed", &w.max_correction_speed, &mut c.max_correction_speed),
+        ("sleep_speed", &w.sleep_speed, &mut c.sleep_speed),
+        ("sleep_time", &w.sleep_time, &mut c.sleep_time),
     ];
     for (key, loc, target) in scalars {
         if let Some(l) = loc {

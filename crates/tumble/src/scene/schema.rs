@@ -155,6 +155,12 @@ pub struct WorldDoc {
     pub contact_damping_ratio: Option<Loc<f64>>,
     /// m/s: largest speed of the overlap correction.
     pub max_correction_speed: Option<Loc<f64>>,
+    /// Islands at rest fall asleep (default on).
+    pub sleep: Option<Loc<bool>>,
+    /// m/s: speed below which a body is still.
+    pub sleep_speed: Option<Loc<f64>>,
+    /// s: time an island must be still before it falls asleep.
+    pub sleep_time: Option<Loc<f64>>,
 }
 
 /// One `[[body]]` (or the template `[grid.body]`).

@@ -11,7 +11,8 @@
 //! `angular_momentum.error_is_absolute` (the initial value was zero, so the error is absolute: see
 //! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
 //! `robots` (only when the scene has robots), `flips[].counted_until` (the body's first contact, s).
-//! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J).
+//! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J;
+//! `asleep_at_end`, the free bodies asleep at the end).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -161,6 +162,9 @@ pub struct ContactSummary {
     pub energy_lost_in_collisions: f64,
     /// Kinetic energy dissipated by friction and inelastic resting contact (J).
     pub energy_lost_in_friction: f64,
+    /// Free bodies asleep at the end (`[world] sleep`: islands at rest).
+    #[serde(default)]
+    pub asleep_at_end: usize,
 }
 
 impl Summary {
@@ -227,6 +231,7 @@ impl Summary {
                 collisions: world.contact_collisions(),
                 energy_lost_in_collisions: world.contact_energy().collisions,
                 energy_lost_in_friction: world.contact_energy().friction,
+                asleep_at_end: world.contacts().sleep().count(),
             },
         }
     }

@@ -18,7 +18,7 @@ impl World {
         let mut count = 0;
         for index in 0..self.bodies.len() {
             let body = &mut self.bodies[index];
-            if body.fixed {
+            if body.fixed || self.contact.sleep().is_asleep(index) {
                 continue;
             }
             if save {

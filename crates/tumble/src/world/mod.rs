@@ -348,8 +348,9 @@ impl World {
         if config.integrator == Integrator::SemiImplicitEuler {
             return self.integrate_free_bodies_batched(save);
         }
+        let sleep = self.contact.sleep();
         for (index, (body, scratch)) in self.bodies.iter_mut().zip(self.scratch.iter_mut()).enumerate() {
-            if body.fixed {
+            if body.fixed || sleep.is_asleep(index) {
                 continue;
             }
             if save {

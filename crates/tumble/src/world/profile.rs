@@ -13,7 +13,7 @@ use std::time::Instant;
 pub struct Profile {
     /// Steps taken since profiling was switched on.
     pub steps: u64,
-    /// Broad phase: swept boxes, sort and sweep (s).
+    /// Broad phase: swept boxes, the grid's pairs (s).
     pub broad_phase: f64,
     /// Narrow phase: contact manifolds of the candidate pairs (s).
     pub narrow_phase: f64,

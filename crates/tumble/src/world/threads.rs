@@ -2,8 +2,8 @@
 //! is asked ([`WorldConfig::threads`](super::WorldConfig::threads), [`World::set_threads`]).
 //!
 //! With one thread no pool exists and no rayon code runs: the step is the single-threaded one. With
-//! more, the narrow phase (and the sweep of the broad phase) split their work into chunks whose
-//! results are gathered in pair order, so the contacts, and every number after them, are the same
+//! more, the narrow phase splits its work into chunks whose results are gathered in pair order (the
+//! broad phase, a few tens of µs, stays on the caller's thread), so the contacts, and every number after them, are the same
 //! bit for bit for any number of threads (`tests/golden_hash.rs`).
 //!
 //! The pool is built at the first step of a world of at least [`MIN_BODIES`] bodies and kept while

@@ -1,0 +1,266 @@
+//! The grid's candidate pairs against their definition: every pair of bodies tested, `O(n²)`, on
+//! random scenes of spheres, boxes and capsules of mixed sizes, huge boxes (walls, a floor box),
+//! planes, fixed bodies, bodies without a shape, far outliers and excluded pairs; and on a lattice
+//! of cubes that touch exactly (the closed test's equality).
+
+use super::super::Colliders;
+use crate::body::{MassProperties, RigidBody, Shape};
+use crate::math::{DQuat, DVec3};
+use proptest::prelude::*;
+
+/// A body's description in a random scene.
+#[derive(Debug, Clone)]
+struct Spec {
+    /// 0: no shape, 1: sphere, 2: box, 3: capsule, 4: huge thin box, 5: plane.
+    kind: u8,
+    /// The shape's size (m): a radius or half extents.
+    size: [f64; 3],
+    position: [f64; 3],
+    /// A rotation vector (rad).
+    turn: [f64; 3],
+    velocity: [f64; 3],
+    omega: [f64; 3],
+    fixed: bool,
+}
+
+fn body(spec: &Spec) -> RigidBody {
+    let mut b = RigidBody::new("b", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+    let [a, h, c] = spec.size;
+    b.shape = match spec.kind {
+        1 => Some(Shape::Sphere { radius: a }),
+        2 => Some(Shape::Box { half_extents: DVec3::new(a, h, c) }),
+        3 => Some(Shape::Capsule { radius: a, half_height: h }),
+        // a wall or a floor: 20–30 m across, thin along one axis
+        4 => Some(Shape::Box { half_extents: DVec3::new(10.0 + 5.0 * a, 10.0 + 5.0 * h, 0.25 * c) }),
+        5 => Some(Shape::Plane),
+        _ => None,
+    };
+    b.fixed = spec.fixed;
+    b.state.position = DVec3::from_array(spec.position);
+    b.state.orientation = DQuat::from_scaled_axis(DVec3::from_array(spec.turn));
+    b.state.velocity = DVec3::from_array(spec.velocity);
+    b.state.omega_body = DVec3::from_array(spec.omega);
+    b
+}
+
+/// The candidate pairs by their definition: every pair of bodies with a box whose boxes (as the
+/// broad phase made them) overlap on the three axes, closed, but not two fixed ones; each plane with
+/// every free body with a box; less the excluded pairs; sorted.
+fn every_pair(c: &Colliders, bodies: &[RigidBody]) -> Pairs {
+    let plane = |i: usize| c.planes.contains(&i);
+    let boxed = |i: usize| c.shapes[i].is_some() && !plane(i);
+    let meet = |i: usize, j: usize| {
+        let (a, b) = (&c.aabbs[i], &c.aabbs[j]);
+        (0..3).all(|k| a.mins[k] <= b.maxs[k] && b.mins[k] <= a.maxs[k])
+    };
+    let mut pairs = Vec::new();
+    for i in 0..bodies.len() {
+        for j in 0..bodies.len() {
+            if i < j && boxed(i) && boxed(j) && !(bodies[i].fixed && bodies[j].fixed) && meet(i, j) {
+                pairs.push((i, j));
+            }
+            if i != j && plane(i) && boxed(j) && !bodies[j].fixed {
+                pairs.push((i, j));
+            }
+        }
+    }
+    pairs.retain(|&(i, j)| !c.is_excluded(i, j));
+    pairs.sort();
+    pairs
+}
+
+/// The broad phase's pairs of `bodies` (with `excluded` pairs) and those by definition.
+/// Candidate pairs, `(i, j)` body indices.
+type Pairs = Vec<(usize, usize)>;
+
+fn both(bodies: &[RigidBody], excluded: &[(usize, usize)], slop: f64) -> (Pairs, Pairs) {
+    let mut c = Colliders::new(bodies);
+    for &(i, j) in excluded {
+        c.exclude_pair(i, j);
+    }
+    c.broad_phase(bodies, &[], 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), slop);
+    let expected = every_pair(&c, bodies);
+    (c.pairs.clone(), expected)
+}
+
+fn spec(extent: f64) -> impl Strategy<Value = Spec> {
+    let kind =
+        prop_oneof![3 => Just(1u8), 3 => Just(2u8), 2 => Just(3u8), 1 => Just(0u8), 1 => Just(4u8), 1 => Just(5u8)];
+    let coordinate = prop_oneof![12 => -extent..extent, 1 => -1e4..1e4f64];
+    (
+        kind,
+        prop::array::uniform3(0.05..1.5f64),
+        prop::array::uniform3(coordinate),
+        prop::array::uniform3(-3.0..3.0f64),
+        prop::array::uniform3(prop_oneof![3 => Just(0.0), 2 => -20.0..20.0f64]),
+        prop::array::uniform3(prop_oneof![3 => Just(0.0), 1 => -10.0..10.0f64]),
+        prop::bool::weighted(0.3),
+    )
+        .prop_map(|(kind, size, position, turn, velocity, omega, fixed)| Spec {
+            kind,
+            size,
+            position,
+            turn,
+            velocity,
+            omega,
+            fixed,
+        })
+}
+
+fn scene() -> impl Strategy<Value = (Vec<Spec>, Vec<(usize, usize)>)> {
+    (1.0..15.0f64, 1usize..250)
+        .prop_flat_map(|(extent, n)| {
+            (prop::collection::vec(spec(extent), n), prop::collection::vec((0..n, 0..n), 0..30))
+        })
+        .prop_map(|(specs, excluded)| (specs, excluded.into_iter().filter(|(i, j)| i != j).collect()))
+}
+
+/// A pile of `n` spheres and boxes of about one size packed in a cube: every cell full, its
+/// neighbours too, every direction of neighbouring cells met.
+fn pile() -> impl Strategy<Value = Vec<Spec>> {
+    (20usize..400).prop_flat_map(|n| {
+        let extent = 0.5 * (n as f64).cbrt();
+        let spec = (
+            prop_oneof![Just(1u8), Just(2u8)],
+            prop::array::uniform3(0.3..0.5f64),
+            prop::array::uniform3(-extent..extent),
+            prop::array::uniform3(-3.0..3.0f64),
+            prop::array::uniform3(-2.0..2.0f64),
+            prop::bool::weighted(0.1),
+        )
+            .prop_map(|(kind, size, position, turn, velocity, fixed)| Spec {
+                kind,
+                size,
+                position,
+                turn,
+                velocity,
+                omega: [0.0; 3],
+                fixed,
+            });
+        prop::collection::vec(spec, n)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    /// The grid's pairs are every pair's test, pair for pair and in the same order.
+    #[test]
+    fn grid_pairs_are_every_pair_tested((specs, excluded) in scene(), slop in 0.0..0.05f64) {
+        let bodies: Vec<RigidBody> = specs.iter().map(body).collect();
+        let (grid, expected) = both(&bodies, &excluded, slop);
+        prop_assert_eq!(grid, expected);
+    }
+
+    /// The same in a dense pile of boxes of one size.
+    #[test]
+    fn grid_pairs_in_a_pile_are_every_pair_tested(specs in pile()) {
+        let bodies: Vec<RigidBody> = specs.iter().map(body).collect();
+        let (grid, expected) = both(&bodies, &[], 0.01);
+        prop_assert_eq!(grid, expected);
+    }
+}
+
+/// Cubes of side 0.5 m at rest on a 0.5 m lattice, no margin: each touches its 26 neighbours on a
+/// face, an edge or a corner with bounds exactly equal, and the closed test pairs them all;
+/// a far cube and a huge box make the grid grow its cells and test a large box.
+#[test]
+fn touching_lattice_pairs_every_neighbour() {
+    let k = 6;
+    let mut bodies = Vec::new();
+    for x in 0..k {
+        for y in 0..k {
+            for z in 0..k {
+                let mut b = RigidBody::new("cube", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+                b.shape = Some(Shape::Box { half_extents: DVec3::splat(0.25) });
+                b.state.position = 0.5 * DVec3::new(x as f64, y as f64, z as f64);
+                bodies.push(b);
+            }
+        }
+    }
+    let mut c = Colliders::new(&bodies);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
+    // neighbours along a direction d: k²(k − 1) pairs per face direction (3), k(k − 1)² per edge
+    // direction (6), (k − 1)³ per corner direction (4)
+    let per_lattice = 3 * k * k * (k - 1) + 6 * k * (k - 1) * (k - 1) + 4 * (k - 1) * (k - 1) * (k - 1);
+    assert_eq!(c.pairs.len(), per_lattice);
+    assert_eq!(c.pairs, every_pair(&c, &bodies));
+
+    let mut far = bodies[0].clone();
+    far.state.position = DVec3::new(1e6, -3e5, 7.0);
+    let mut floor = bodies[0].clone();
+    floor.shape = Some(Shape::Box { half_extents: DVec3::new(20.0, 20.0, 0.5) });
+    floor.state.position = DVec3::new(0.0, 0.0, -0.75);
+    floor.fixed = true;
+    bodies.extend([far, floor]);
+    let mut c = Colliders::new(&bodies);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
+    // the floor's top touches the lowest layer's bottom
+    assert_eq!(c.pairs.len(), per_lattice + k * k);
+    assert_eq!(c.pairs, every_pair(&c, &bodies));
+}
+
+/// A thousand balls packed in a box of four fixed walls above a plane, some moving fast: the walls
+/// are large boxes tested against the cells they cover.
+#[test]
+fn packed_balls_in_walls() {
+    let mut bodies = Vec::new();
+    let wall = |half: DVec3, position: DVec3| {
+        let mut b = RigidBody::new("wall", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+        b.shape = Some(Shape::Box { half_extents: half });
+        b.state.position = position;
+        b.fixed = true;
+        b
+    };
+    let mut ground = wall(DVec3::ONE, DVec3::ZERO);
+    ground.shape = Some(Shape::Plane);
+    bodies.push(ground);
+    bodies.push(wall(DVec3::new(0.25, 7.0, 10.0), DVec3::new(-6.75, 0.0, 10.0)));
+    bodies.push(wall(DVec3::new(0.25, 7.0, 10.0), DVec3::new(6.75, 0.0, 10.0)));
+    bodies.push(wall(DVec3::new(7.0, 0.25, 10.0), DVec3::new(0.0, -6.75, 10.0)));
+    bodies.push(wall(DVec3::new(7.0, 0.25, 10.0), DVec3::new(0.0, 6.75, 10.0)));
+    for n in 0..1000 {
+        let (x, y, z) = (n % 13, (n / 13) % 13, n / 169);
+        let mut b = RigidBody::new("ball", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+        b.shape = Some(Shape::Sphere { radius: 0.5 });
+        // a little off the lattice, pseudo-randomly, and every seventh ball falling fast
+        let jitter = 0.01 * DVec3::new((n as f64 * 0.7).sin(), (n as f64 * 1.3).cos(), (n as f64 * 2.9).sin());
+        b.state.position = DVec3::new(x as f64 - 6.0, y as f64 - 6.0, z as f64 + 0.5) + jitter;
+        if n % 7 == 0 {
+            b.state.velocity = DVec3::new(0.0, 0.0, -12.0);
+        }
+        bodies.push(b);
+    }
+    let (grid, expected) = both(&bodies, &[(0, 7), (12, 13), (100, 2)], 0.01);
+    assert!(expected.len() > 5000, "{} pairs", expected.len());
+    assert_eq!(grid, expected);
+}
+
+/// Bodies asleep pair as fixed ones: the pairs are those of the awake world without the pairs of
+/// two bodies each asleep or fixed, planes included.
+#[test]
+fn sleeping_bodies_pair_only_with_awake_ones() {
+    let mut bodies = Vec::new();
+    let mut ground = RigidBody::new("ground", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+    ground.shape = Some(Shape::Plane);
+    ground.fixed = true;
+    bodies.push(ground);
+    for x in 0..6 {
+        for z in 0..4 {
+            let mut b = RigidBody::new("cube", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+            b.shape = Some(Shape::Box { half_extents: DVec3::splat(0.25) });
+            b.state.position = DVec3::new(0.5 * x as f64, 0.0, 0.25 + 0.5 * z as f64);
+            bodies.push(b);
+        }
+    }
+    // the lower three layers asleep, the top one awake
+    let asleep: Vec<bool> = bodies.iter().map(|b| !b.fixed && b.state.position.z < 1.5).collect();
+    let mut c = Colliders::new(&bodies);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), 0.0);
+    let rests = |i: usize| bodies[i].fixed || asleep[i];
+    let mut expected = c.pairs.clone();
+    expected.retain(|&(i, j)| !(rests(i) && rests(j)));
+    assert!(expected.len() < c.pairs.len() && !expected.is_empty());
+    c.broad_phase(&bodies, &asleep, 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), 0.0);
+    assert_eq!(c.pairs, expected);
+}
