@@ -305,6 +305,8 @@ impl ContactStage {
                 }
             }
         } else if steady && self.links.is_empty() {
+            // as below when there is no contact at all: the robots' rows of an earlier step go
+            self.links.clear();
             return;
         }
         if self.contacts.is_empty() && self.links.is_empty() {
