@@ -228,33 +228,46 @@ def test_contacts_of_bodies_on_the_floor(demo):
         assert c["force"].shape == (3,)
 
 
-def test_contact_forces_hold_a_resting_box_up():
-    # a 2 kg box on a plane: once at rest, the contact forces on it sum to its weight
-    model = tumble.Model.from_str(
-        """
+RESTING_BOX = """
 version = 1
 [world]
 dt = 0.004
 integrator = "semi_implicit_euler"
+sleep = {sleep}
 [[body]]
 name = "floor"
 fixed = true
-shape = { type = "plane" }
+shape = {{ type = "plane" }}
 [[body]]
 name = "box"
 mass = 2.0
-shape = { type = "box", half_extents = [0.3, 0.2, 0.1] }
+shape = {{ type = "box", half_extents = [0.3, 0.2, 0.1] }}
 position = [0.0, 0.0, 0.1]
 """
-    )
-    w = tumble.World(model)
+
+
+def test_contact_forces_hold_a_resting_box_up():
+    # a 2 kg box on a plane, sleeping off: once at rest, the contact forces on it sum to its weight
+    w = tumble.World(tumble.Model.from_str(RESTING_BOX.format(sleep="false")))
     w.step(500)
     contacts = w.contacts()
     assert len(contacts) >= 3
     total = sum(c["force"] if c["b"] == "box" else -c["force"] for c in contacts)
     assert np.allclose(total, [0.0, 0.0, 2.0 * 9.81], rtol=1e-6, atol=1e-9)
-    # at rest for 1.5 s it is asleep: not moved, its contacts still hold it up
+    assert w.asleep() == 0
+
+
+def test_a_resting_box_falls_asleep_and_wakes_when_its_state_is_set():
+    w = tumble.World(tumble.Model.from_str(RESTING_BOX.format(sleep="true")))
+    w.step(500)
+    # at rest for 1.5 s it is asleep: not moved; its kept contacts (those of its last awake step,
+    # when it moved slower than 1 cm/s) still hold it up
     assert w.asleep() == 1
+    contacts = w.contacts()
+    total = sum(c["force"] if c["b"] == "box" else -c["force"] for c in contacts)
+    weight = 2.0 * 9.81
+    assert abs(total[2] - weight) < 1e-3 * weight
+    assert np.all(np.abs(total[:2]) < 1e-6 * weight)  # friction left from that step (~5e-9 N)
     x = w.state()
     w.step(10)
     assert np.array_equal(w.state(), x)
