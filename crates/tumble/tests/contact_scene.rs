@@ -20,6 +20,11 @@ fn world_contact_settings_are_read() {
     assert_eq!((c.impact_speed, c.iterations, c.slop), (1.5, 12, 0.001));
     assert_eq!((c.substeps, c.hertz, c.damping_ratio), (6, 45.0, 2.0));
     assert_eq!((c.max_correction_speed, c.enabled), (2.0, false));
+    let s = load("version = 1\n[world]\nsleep = false\nsleep_speed = 0.05\nsleep_time = 2.0\n").unwrap();
+    let c = s.world.config.contact;
+    assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (false, 0.05, 2.0));
+    let c = load("version = 1\n").unwrap().world.config.contact;
+    assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (true, 0.01, 0.5));
 }
 
 #[test]
@@ -34,6 +39,9 @@ fn bad_contact_settings_name_the_field_and_the_line() {
         ("contact_substeps = 0", "world.contact_substeps"),
         ("contact_damping_ratio = -1.0", "world.contact_damping_ratio"),
         ("impact_speed = nan", "world.impact_speed"),
+        ("sleep_speed = -1.0", "world.sleep_speed"),
+        ("sleep_time = inf", "world.sleep_time"),
+        ("sleep = 1", "sleep"),
     ];
     for (line, field) in cases {
         let err = load(&format!("version = 1\n[world]\n{line}\n")).unwrap_err();
