@@ -317,7 +317,8 @@ impl Sleep {
             candidate |= self.still[i] >= settings.sleep_time;
         }
         if !candidate {
-            return self.rebuild_frozen(bodies, contacts, impulses, lambdas);
+            self.rebuild_frozen(bodies, contacts, impulses, lambdas);
+            return 0.0;
         }
         // islands of the awake free bodies
         self.parent.clear();
@@ -346,7 +347,8 @@ impl Sleep {
             }
         }
         if !grounded {
-            return self.rebuild_frozen(bodies, contacts, impulses, lambdas);
+            self.rebuild_frozen(bodies, contacts, impulses, lambdas);
+            return 0.0;
         }
         for i in link_bodies {
             let r = find(&mut self.parent, i);
@@ -394,36 +396,29 @@ impl Sleep {
                 }
             }
         }
-        energy + self.rebuild_frozen(bodies, contacts, impulses, lambdas)
+        self.rebuild_frozen(bodies, contacts, impulses, lambdas);
+        energy
     }
 
     /// Rebuilds the frozen contacts from the last step's if an island fell asleep or woke since
-    /// they were built. Returns 0 (energy, for the caller's sum).
-    fn rebuild_frozen(
-        &mut self,
-        bodies: &[RigidBody],
-        contacts: &[Contact],
-        impulses: &[DVec3],
-        lambdas: &[[f64; 3]],
-    ) -> f64 {
+    /// they were built.
+    fn rebuild_frozen(&mut self, bodies: &[RigidBody], contacts: &[Contact], impulses: &[DVec3], lambdas: &[[f64; 3]]) {
         if !self.changed {
-            return 0.0;
+            return;
         }
         self.changed = false;
         self.epoch += 1;
         self.frozen.clear();
         if self.count == 0 {
-            return 0.0;
+            return;
         }
         for (k, c) in contacts.iter().enumerate() {
-            let rests = |i: usize| bodies[i].fixed || self.asleep[i];
-            if rests(c.a) && rests(c.b) {
+            if self.resting(bodies, c.a) && self.resting(bodies, c.b) {
                 let lambda = lambdas.get(k).copied().unwrap_or([0.0; 3]);
                 let impulse = impulses.get(k).copied().unwrap_or(DVec3::ZERO);
                 self.frozen.push(Frozen { contact: *c, impulse, lambda });
             }
         }
-        0.0
     }
 }
 
