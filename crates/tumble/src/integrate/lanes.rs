@@ -9,7 +9,7 @@
 //! set (true) or clear (false); a comparison with a NaN is false.
 
 use crate::math::DVec3;
-use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+use core::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 use wide::f64x4;
 
 /// Four `f64` lanes and the operations the batched step needs.
@@ -73,6 +73,7 @@ impl Lanes for f64x4 {
 /// A 3-vector in four lanes (four bodies, or four constraints), with `DVec3`'s operations performed
 /// operand for operand, so that each lane gives the scalar `DVec3` result bit for bit.
 #[derive(Debug, Clone, Copy, Default)]
+#[repr(C)]
 pub(crate) struct V3<L> {
     pub(crate) x: L,
     pub(crate) y: L,
@@ -140,15 +141,83 @@ pub(crate) fn set_lane<L: Lanes>(lanes: &mut L, k: usize, value: f64) {
     *lanes = L::new(a);
 }
 
+/// What the contact solver's lanes (`contact::batch`) need besides [`Lanes`]: division, square
+/// root, minimum and maximum, comparisons and selects, each as the scalar `f64` operation lane by
+/// lane, and as `wide::f64x4` does it (its NaN rules included), so that every kind of lanes gives
+/// the same bits.
+pub(crate) trait SolveLanes: Lanes + Default + Div<Output = Self> {
+    /// `−self` (the sign bit flipped, as `f64`'s `-`).
+    fn neg(self) -> Self;
+    fn sqrt(self) -> Self;
+    /// `f64::max` lane by lane: a NaN in `other` gives `self`, in `self` gives `other`.
+    fn max(self, other: Self) -> Self;
+    /// `f64::min` lane by lane, with `max`'s NaN rule.
+    fn min(self, other: Self) -> Self;
+    /// The mask of `self > other` (false with a NaN).
+    fn gt(self, other: Self) -> Self;
+    /// The mask of `self != other` (true with a NaN).
+    fn ne(self, other: Self) -> Self;
+    /// The mask of the NaN lanes.
+    fn is_nan(self) -> Self;
+    /// The mask of the finite lanes.
+    fn is_finite(self) -> Self;
+    /// Lane by lane, `t` where the mask `self` is true, else `f`.
+    fn select(self, t: Self, f: Self) -> Self;
+    /// Whether any lane of the mask is true.
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.bitmask() != 0
+    }
+}
+
+impl SolveLanes for f64x4 {
+    #[inline(always)]
+    fn neg(self) -> Self {
+        -self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64x4::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64x4::max(self, other)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        f64x4::min(self, other)
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> Self {
+        self.simd_gt(other)
+    }
+    #[inline(always)]
+    fn ne(self, other: Self) -> Self {
+        self.simd_ne(other)
+    }
+    #[inline(always)]
+    fn is_nan(self) -> Self {
+        f64x4::is_nan(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> Self {
+        f64x4::is_finite(self)
+    }
+    #[inline(always)]
+    fn select(self, t: Self, f: Self) -> Self {
+        f64x4::select(self, t, f)
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx::Avx;
 
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
-    use super::Lanes;
+    use super::{Lanes, SolveLanes};
     use core::arch::x86_64::*;
-    use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
+    use core::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 
     /// Four lanes in one AVX register.
     ///
@@ -157,6 +226,7 @@ mod avx {
     /// `is_x86_feature_detected!("avx2")`; the methods are `#[inline(always)]` so that they are
     /// compiled into that function.
     #[derive(Clone, Copy)]
+    #[repr(transparent)]
     pub(crate) struct Avx(__m256d);
 
     macro_rules! binary {
@@ -176,6 +246,66 @@ mod avx {
     binary!(Mul, mul, _mm256_mul_pd);
     binary!(BitAnd, bitand, _mm256_and_pd);
     binary!(BitOr, bitor, _mm256_or_pd);
+    binary!(Div, div, _mm256_div_pd);
+
+    impl Default for Avx {
+        #[inline(always)]
+        fn default() -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_setzero_pd() })
+        }
+    }
+
+    impl SolveLanes for Avx {
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // `vmaxpd` gives its second operand when either is a NaN; a NaN in `other` gives `self`
+            // SAFETY: see the type's documentation
+            other.is_nan().select(self, Avx(unsafe { _mm256_max_pd(self.0, other.0) }))
+        }
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            other.is_nan().select(self, Avx(unsafe { _mm256_min_pd(self.0, other.0) }))
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn ne(self, other: Self) -> Self {
+            // unordered: true where either lane is a NaN, as the scalar `!=`
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_NEQ_UQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn is_nan(self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_UNORD_Q>(self.0, self.0) })
+        }
+        #[inline(always)]
+        fn is_finite(self) -> Self {
+            // `x − x` is 0 for a finite `x`, NaN for an infinity or a NaN
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_cmp_pd::<_CMP_EQ_OQ>(_mm256_sub_pd(self.0, self.0), _mm256_setzero_pd()) })
+        }
+        #[inline(always)]
+        fn select(self, t: Self, f: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_blendv_pd(f.0, t.0, self.0) })
+        }
+    }
 
     impl Lanes for Avx {
         #[inline(always)]
