@@ -20,7 +20,9 @@
 //! instead of 1.7 mm. A manifold that finds no free colour goes to the overflow, solved one at a
 //! time after the colours by the scalar [`solve_pair`].
 //!
-//! **Lanes**: within a colour, four manifolds per batch, lane `k` the `k`-th; the batch's point slot
+//! **Lanes**: within a colour, the manifolds sorted by their number of points (their order there
+//! changes no bit, and a batch of alike manifolds has little padding), four manifolds per batch,
+//! lane `k` the `k`-th; the batch's point slot
 //! `j` holds the `j`-th point of each manifold, so the points of one pair keep the Gauss–Seidel
 //! order of the scalar solver. Manifolds with fewer points, and lanes without a manifold, are padded
 //! with inert data and masked out of the velocity updates. Every branch of the scalar solve is kept
@@ -432,7 +434,8 @@ pub struct LaneSolver {
     last: Vec<usize>,
     /// The colour of each manifold, `COLOURS` for the overflow.
     colour_of: Vec<usize>,
-    /// The manifolds of each colour in pair order, concatenated; `colour_start[c]..colour_start[c + 1]`.
+    /// The manifolds of each colour by number of points then pair order, concatenated;
+    /// `colour_start[c]..colour_start[c + 1]`.
     order: Vec<usize>,
     colour_start: Vec<usize>,
     batches: Vec<Batch>,
@@ -527,6 +530,13 @@ impl LaneSolver {
         self.overflow.clear();
         self.overflow.extend(self.order[self.colour_start[COLOURS]..].iter().map(|&g| groups[g]));
 
+        // within a colour the manifolds share no moving body, so their order there changes no bit:
+        // by number of points (then pair order), so that a batch's four have as many points as
+        // possible alike and few slots are padding (the pyramid's 4- and 6-point manifolds)
+        for c in 0..COLOURS {
+            self.order[self.colour_start[c]..self.colour_start[c + 1]]
+                .sort_unstable_by_key(|&g| (groups[g].1 - groups[g].0, g));
+        }
         // batches of four manifolds per colour, slot j holding the j-th point of each
         self.batches.clear();
         self.batch_start.clear();
@@ -984,7 +994,8 @@ mod tests {
     }
 
     /// The colouring: no two manifolds of a colour share a moving body, every manifold is once in the
-    /// order, pair order within each colour, and the overflow only when the colours ran out; with
+    /// order, by number of points then pair order within each colour, the overflow in pair order and
+    /// only when the colours ran out; with
     /// chains shorter than the colours, each body meets its manifolds in pair order.
     #[test]
     fn colours_share_no_moving_body() {
@@ -995,7 +1006,9 @@ mod tests {
         let mut seen = vec![false; groups.len()];
         for c in 0..=COLOURS {
             let members = &lanes.order[lanes.colour_start[c]..lanes.colour_start[c + 1]];
-            assert!(members.windows(2).all(|w| w[0] < w[1]), "colour {c} not in pair order");
+            // by number of points then pair order in a colour; the overflow in pair order
+            let points = |g: usize| if c < COLOURS { groups[g].1 - groups[g].0 } else { 0 };
+            assert!(members.windows(2).all(|w| (points(w[0]), w[0]) < (points(w[1]), w[1])), "colour {c} out of order");
             let mut used = vec![false; bodies.len()];
             for &g in members {
                 assert!(!seen[g]);
