@@ -28,15 +28,18 @@
 
 use super::euler::finish_implicit_gyroscopic;
 #[cfg(target_arch = "x86_64")]
-use super::lanes::Avx;
+use super::lanes::{Avx, Avx512};
 use super::lanes::{Lanes, V3};
 use crate::body::RigidBody;
 use crate::math::{quat_exp, DQuat, DVec3};
 use crate::world::MAX_STATE_MAGNITUDE;
 use wide::f64x4;
 
-/// Bodies per batch.
+/// Bodies per batch of [`semi_implicit_euler_x4`].
 pub const LANES: usize = 4;
+
+/// Bodies per batch at most: [`semi_implicit_euler_batch`] takes up to [`batch_width`] of them.
+pub const MAX_LANES: usize = 8;
 
 /// Whether a body can take the batched step: it moves, and its loads do not depend on its
 /// orientation (gravity, world-frame forces, body-frame torques and damping only).
@@ -45,10 +48,74 @@ pub fn batchable(body: &RigidBody) -> bool {
     !body.fixed && !body.loads.needs_rotation()
 }
 
-/// One scalar of four bodies, `f(bodies[k])` in lane `k`.
+/// One scalar of the group's bodies, `f(group[k])` in lane `k`.
 #[inline(always)]
-fn gather<L: Lanes>(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> f64) -> L {
-    L::new([f(bodies[0]), f(bodies[1]), f(bodies[2]), f(bodies[3])])
+fn gather<L: Lanes>(group: &[&RigidBody; MAX_LANES], f: impl Fn(&RigidBody) -> f64) -> L {
+    L::from_fn(|k| f(group[k]))
+}
+
+/// Whether the CPU has AVX-512F (eight lanes), detected once (the standard library caches it).
+#[inline]
+fn has_avx512() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx512f");
+    #[allow(unreachable_code)]
+    false
+}
+
+/// Bodies per batch of [`semi_implicit_euler_batch`] on this CPU: 8 with AVX-512F, else 4.
+#[inline]
+pub fn batch_width() -> usize {
+    if has_avx512() {
+        MAX_LANES
+    } else {
+        LANES
+    }
+}
+
+/// Advances the bodies `bodies[lanes[k]]`, `k < count`, `count ≤` [`batch_width`], by one
+/// semi-implicit Euler step of `h` seconds under the world's gravity `gravity_world` (m/s², world
+/// frame): eight lanes in AVX-512 registers where the CPU has AVX-512F, else as
+/// [`semi_implicit_euler_x4`] (`lanes[4..]` unused). Entries `count..` of `lanes` are not read.
+/// Every body must be [`batchable`] and the lanes distinct.
+///
+/// Returns the lanes (bit `k`) whose new state fails the quick sanity test of the world's
+/// divergence check, as [`semi_implicit_euler_x4`]. The results are the same bits whatever the lanes.
+pub fn semi_implicit_euler_batch(
+    bodies: &mut [RigidBody],
+    lanes: &[usize; MAX_LANES],
+    count: usize,
+    gravity_world: DVec3,
+    h: f64,
+) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx512() {
+        // SAFETY: the CPU has AVX-512F
+        #[allow(unsafe_code)]
+        return unsafe { x8_avx512(bodies, lanes, count, gravity_world, h) };
+    }
+    assert!(count <= LANES, "{count} bodies in a batch of {LANES}");
+    let four = core::array::from_fn(|k| lanes[k.min(count - 1)]);
+    semi_implicit_euler_x4(bodies, &four, count, gravity_world, h)
+}
+
+/// [`semi_implicit_euler_batch`] in eight AVX-512 lanes, or `None` where the CPU lacks AVX-512F: the
+/// eight-lane kernel driven directly, for tests and benchmarks.
+pub fn semi_implicit_euler_x8_avx512(
+    bodies: &mut [RigidBody],
+    lanes: &[usize; MAX_LANES],
+    count: usize,
+    gravity_world: DVec3,
+    h: f64,
+) -> Option<u32> {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx512() {
+        // SAFETY: the CPU has AVX-512F
+        #[allow(unsafe_code)]
+        return Some(unsafe { x8_avx512(bodies, lanes, count, gravity_world, h) });
+    }
+    let _ = (bodies, lanes, count, gravity_world, h);
+    None
 }
 
 /// Advances the bodies `bodies[lanes[k]]`, `k < count`, by one semi-implicit Euler step of `h`
@@ -86,60 +153,76 @@ pub fn semi_implicit_euler_x4_portable(
     gravity_world: DVec3,
     h: f64,
 ) -> u32 {
-    x4::<f64x4>(bodies, lanes, count, gravity_world, h)
+    step::<f64x4>(bodies, lanes, count, gravity_world, h)
 }
 
 /// [`semi_implicit_euler_x4`] compiled for AVX2, in [`Avx`] lanes.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn x4_avx2(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
-    x4::<Avx>(bodies, lanes, count, gravity_world, h)
+    step::<Avx>(bodies, lanes, count, gravity_world, h)
 }
 
-/// The step in lanes `L`.
+/// [`semi_implicit_euler_batch`] compiled for AVX-512F, in [`Avx512`] lanes (no FMA: `avx512f`
+/// does not enable it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn x8_avx512(bodies: &mut [RigidBody], lanes: &[usize; MAX_LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
+    step::<Avx512>(bodies, lanes, count, gravity_world, h)
+}
+
+/// The step in lanes `L`, on the bodies `lanes[..count]` (`lanes.len() >= L::N`).
 #[inline(always)]
-fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
-    debug_assert!((1..=LANES).contains(&count));
-    let lanes = &core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
+fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravity_world: DVec3, h: f64) -> u32 {
+    debug_assert!((1..=L::N).contains(&count) && lanes.len() >= L::N);
+    let all = (1u32 << L::N) - 1;
+    let index: [usize; MAX_LANES] = core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
     let hv = L::splat(h);
-    let group: &[&RigidBody; LANES] = &lanes.map(|index| &bodies[index]);
+    let group: [&RigidBody; MAX_LANES] = core::array::from_fn(|k| &bodies[index[k]]);
 
     // parameters (constants of each body) and state
     // four rows of each body, transposed into lanes (rows of adjacent fields: a load each)
-    let [mass, ix, iy, iz] = L::transpose(group.map(|b| {
-        let i = b.mass.inertia_body;
-        L::new([b.mass.mass, i.x, i.y, i.z])
-    }));
-    let [inv_mass, jx, jy, jz] = L::transpose(group.map(|b| {
-        let j = b.mass.inv_inertia_body;
-        L::new([b.mass.inv_mass, j.x, j.y, j.z])
-    }));
-    let [fx, fy, fz, linear_damping] = L::transpose(group.map(|b| {
-        let f = b.loads.force_world;
-        L::new([f.x, f.y, f.z, b.loads.linear_damping])
-    }));
-    let [tx, ty, tz, angular_damping] = L::transpose(group.map(|b| {
-        let t = b.loads.torque_body;
-        L::new([t.x, t.y, t.z, b.loads.angular_damping])
-    }));
+    let [mass, ix, iy, iz] = L::from_rows(|k| {
+        let (b, i) = (group[k], group[k].mass.inertia_body);
+        [b.mass.mass, i.x, i.y, i.z]
+    });
+    let [inv_mass, jx, jy, jz] = L::from_rows(|k| {
+        let (b, j) = (group[k], group[k].mass.inv_inertia_body);
+        [b.mass.inv_mass, j.x, j.y, j.z]
+    });
+    let [fx, fy, fz, linear_damping] = L::from_rows(|k| {
+        let (b, f) = (group[k], group[k].loads.force_world);
+        [f.x, f.y, f.z, b.loads.linear_damping]
+    });
+    let [tx, ty, tz, angular_damping] = L::from_rows(|k| {
+        let (b, t) = (group[k], group[k].loads.torque_body);
+        [t.x, t.y, t.z, b.loads.angular_damping]
+    });
     let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
     let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
     // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic` (scalar: `f64::max` and `min` on NaNs)
-    let spread = gather::<L>(group, |b| {
+    let spread = gather::<L>(&group, |b| {
         let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
         (i.max_element() - i.min_element()) * inv.max_element()
     });
     // g_body = s g, as `RigidBody::gravity`
-    let gravity_scale = gather::<L>(group, |b| b.gravity_scale);
+    let gravity_scale = gather::<L>(&group, |b| b.gravity_scale);
     let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
         .scale(gravity_scale);
-    let s = group.map(|b| &b.state);
-    let [px, py, pz, qx] = L::transpose(s.map(|s| L::new([s.position.x, s.position.y, s.position.z, s.orientation.x])));
-    let [qy, qz, qw, vx] =
-        L::transpose(s.map(|s| L::new([s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x])));
-    let [vy, vz, wx, wy] =
-        L::transpose(s.map(|s| L::new([s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y])));
-    let wz = L::new(s.map(|s| s.omega_body.z));
+    let s = |k: usize| &group[k].state;
+    let [px, py, pz, qx] = L::from_rows(|k| {
+        let s = s(k);
+        [s.position.x, s.position.y, s.position.z, s.orientation.x]
+    });
+    let [qy, qz, qw, vx] = L::from_rows(|k| {
+        let s = s(k);
+        [s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x]
+    });
+    let [vy, vz, wx, wy] = L::from_rows(|k| {
+        let s = s(k);
+        [s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y]
+    });
+    let wz = gather::<L>(&group, |b| b.state.omega_body.z);
     let mut position = V3 { x: px, y: py, z: pz };
     let mut velocity = V3 { x: vx, y: vy, z: vz };
     let omega = V3 { x: wx, y: wy, z: wz };
@@ -168,15 +251,15 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
         & l_after.length_squared().le(l_before.length_squared() * round_off);
     let small = (hv * hv * w.length_squared() * spread * spread).le(L::splat(0.05 * 0.05));
     // the residual test only where the step is not small (the scalar `small || …`)
-    let converged = if small.bitmask() == (1 << LANES) - 1 {
+    let converged = if L::bits(small) == all {
         small
     } else {
         let residual_after = l_after.sub(l_before).add(omega_new.cross(l_after).scale(hv));
         small | residual_after.length_squared().le(L::splat(1e-6) * l_before.length_squared())
     };
-    let rejected = !(converged & kept).bitmask() & ((1 << LANES) - 1);
+    let rejected = !L::bits(converged & kept) & all;
     if rejected != 0 {
-        for k in (0..LANES).filter(|k| rejected & (1 << k) != 0) {
+        for k in (0..L::N).filter(|k| rejected & (1 << k) != 0) {
             omega_new.set_lane(k, finish_implicit_gyroscopic(i.lane(k), w.lane(k), h));
         }
     }
@@ -193,14 +276,12 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
                 + x2 * (L::splat(-1.0 / 720.0) + x2 * (L::splat(1.0 / 40320.0) + x2 * L::splat(-1.0 / 3628800.0)))));
     let v = phi.scale(L::splat(0.5) * sinc);
     let mut e = [v.x, v.y, v.z, cos];
-    let large = !x2.lt(L::splat(0.01)).bitmask() & ((1 << LANES) - 1);
+    let large = !L::bits(x2.lt(L::splat(0.01))) & all;
     if large != 0 {
-        for k in (0..LANES).filter(|k| large & (1 << k) != 0) {
+        for k in (0..L::N).filter(|k| large & (1 << k) != 0) {
             let exp = quat_exp(phi.lane(k));
             for (component, value) in e.iter_mut().zip([exp.x, exp.y, exp.z, exp.w]) {
-                let mut a = component.to_array();
-                a[k] = value;
-                *component = L::new(a);
+                component.set_lane(k, value);
             }
         }
     }
@@ -220,7 +301,7 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
     for component in &mut q {
         *component = *component * newton;
     }
-    let far = !near.bitmask() & ((1 << LANES) - 1);
+    let far = !L::bits(near) & all;
 
     // the quick sanity test of `check_state`
     let max2 = L::splat(MAX_STATE_MAGNITUDE * MAX_STATE_MAGNITUDE);
@@ -228,28 +309,37 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
         position.length_squared().le(max2) & velocity.length_squared().le(max2) & omega_new.length_squared().le(max2);
     // |q|² of the stored quaternion, summed as `DQuat::length_squared` (the far lanes are redone)
     let q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-    let mut insane = (!sane.bitmask() | (!q2.le(L::splat(4.0)).bitmask() & !far)) & ((1 << LANES) - 1);
+    let mut insane = (!L::bits(sane) | (!L::bits(q2.le(L::splat(4.0))) & !far)) & all;
 
     // scatter: the same rows, transposed back
     let (p, v, o) = (position, velocity, omega_new);
-    let rows_a = L::transpose([p.x, p.y, p.z, q[0]]).map(L::to_array);
-    let rows_b = L::transpose([q[1], q[2], q[3], v.x]).map(L::to_array);
-    let rows_c = L::transpose([v.y, v.z, o.x, o.y]).map(L::to_array);
-    let wz = o.z.to_array();
-    for (k, &index) in lanes.iter().enumerate().take(count) {
-        let s = &mut bodies[index].state;
-        let ([a0, a1, a2, a3], [b0, b1, b2, b3], [c0, c1, c2, c3]) = (rows_a[k], rows_b[k], rows_c[k]);
-        s.position = DVec3::new(a0, a1, a2);
-        s.orientation = DQuat::from_xyzw(a3, b0, b1, b2);
-        s.velocity = DVec3::new(b3, c0, c1);
-        s.omega_body = DVec3::new(c2, c3, wz[k]);
+    L::to_rows([p.x, p.y, p.z, q[0]], |k, [x, y, z, qx]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.position, s.orientation.x) = (DVec3::new(x, y, z), qx);
+        }
+    });
+    L::to_rows([q[1], q[2], q[3], v.x], |k, [qy, qz, qw, vx]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x) = (qy, qz, qw, vx);
+        }
+    });
+    L::to_rows([v.y, v.z, o.x, o.y], |k, [vy, vz, wx, wy]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y) = (vy, vz, wx, wy);
+        }
+    });
+    for (k, &i) in index.iter().enumerate().take(count) {
+        bodies[i].state.omega_body.z = o.z.lane(k);
     }
     // exact normalisation where |q|² was far from 1 (rare)
     if far != 0 {
-        let qu = q_unrenormalized.map(|c| c.to_array());
-        for (k, &index) in lanes.iter().enumerate().take(count).filter(|&(k, _)| far & (1 << k) != 0) {
-            let s = &mut bodies[index].state;
-            s.orientation = DQuat::from_xyzw(qu[0][k], qu[1][k], qu[2][k], qu[3][k]).normalize();
+        for k in (0..count).filter(|&k| far & (1 << k) != 0) {
+            let qu = q_unrenormalized.map(|c| c.lane(k));
+            let s = &mut bodies[index[k]].state;
+            s.orientation = DQuat::from_xyzw(qu[0], qu[1], qu[2], qu[3]).normalize();
             if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
                 insane |= 1 << k;
             }

@@ -12,61 +12,80 @@ use crate::math::DVec3;
 use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
 use wide::f64x4;
 
-/// Four `f64` lanes and the operations the batched step needs.
-pub(crate) trait Lanes:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + BitAnd<Output = Self> + BitOr<Output = Self>
-{
+/// `N` `f64` lanes (four or eight) and the operations the batched step needs.
+pub(crate) trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+    /// The number of lanes.
+    const N: usize;
+    /// The result of a comparison, lane by lane; combined with `&` and `|`, read by [`Lanes::bits`].
+    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask>;
     /// `x` in every lane.
     fn splat(x: f64) -> Self;
-    /// Lane `k` from `a[k]`.
-    fn new(a: [f64; 4]) -> Self;
-    /// Lane `k` into `a[k]`.
-    fn to_array(self) -> [f64; 4];
-    /// The mask of `self <= other`.
-    fn le(self, other: Self) -> Self;
+    /// Lane `k` from `f(k)`, `k < N`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `k`.
+    fn lane(self, k: usize) -> f64;
+    /// Lane `k` set to `value`.
+    fn set_lane(&mut self, k: usize, value: f64);
+    /// The mask of `self <= other` (false where a lane is a NaN, as the scalar `<=`).
+    fn le(self, other: Self) -> Self::Mask;
     /// The mask of `self < other`.
-    fn lt(self, other: Self) -> Self;
+    fn lt(self, other: Self) -> Self::Mask;
+    /// Bit `k` set where lane `k` of the mask is true (bits `N..` clear).
+    fn bits(mask: Self::Mask) -> u32;
     /// `|self|`, lane by lane.
     fn abs(self) -> Self;
-    /// Bit `k` set where lane `k` of the mask is true.
-    fn bitmask(self) -> u32;
-    /// The transpose of a 4×4 block: lane `j` of `rows[k]` goes to lane `k` of the result's `j`.
-    /// Four rows read from four bodies become four quantities in lanes, and back.
+    /// Four quantities of `N` bodies from one row of four adjacent fields per body: lane `k` of
+    /// result `j` is `rows(k)[j]` (a transpose: one load per body, a few shuffles per row).
     #[inline(always)]
-    fn transpose(rows: [Self; 4]) -> [Self; 4] {
-        let r = rows.map(Self::to_array);
-        core::array::from_fn(|j| Self::new([r[0][j], r[1][j], r[2][j], r[3][j]]))
+    fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+        core::array::from_fn(|j| Self::from_fn(|k| rows(k)[j]))
+    }
+    /// The inverse of [`Lanes::from_rows`]: `row(k, r)` receives body `k`'s row `r[j] = lane k of
+    /// lanes[j]`, for `k < N` in order.
+    #[inline(always)]
+    fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
+        for k in 0..Self::N {
+            row(k, lanes.map(|l| l.lane(k)));
+        }
     }
 }
 
 impl Lanes for f64x4 {
+    const N: usize = 4;
+    type Mask = f64x4;
     #[inline(always)]
     fn splat(x: f64) -> Self {
         f64x4::splat(x)
     }
     #[inline(always)]
-    fn new(a: [f64; 4]) -> Self {
-        f64x4::new(a)
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        f64x4::new([f(0), f(1), f(2), f(3)])
     }
     #[inline(always)]
-    fn to_array(self) -> [f64; 4] {
-        f64x4::to_array(self)
+    fn lane(self, k: usize) -> f64 {
+        self.to_array()[k]
     }
     #[inline(always)]
-    fn le(self, other: Self) -> Self {
+    fn set_lane(&mut self, k: usize, value: f64) {
+        let mut a = self.to_array();
+        a[k] = value;
+        *self = f64x4::new(a);
+    }
+    #[inline(always)]
+    fn le(self, other: Self) -> Self::Mask {
         self.simd_le(other)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> Self {
+    fn lt(self, other: Self) -> Self::Mask {
         self.simd_lt(other)
+    }
+    #[inline(always)]
+    fn bits(mask: Self::Mask) -> u32 {
+        mask.to_bitmask()
     }
     #[inline(always)]
     fn abs(self) -> Self {
         f64x4::abs(self)
-    }
-    #[inline(always)]
-    fn bitmask(self) -> u32 {
-        self.to_bitmask()
     }
 }
 
@@ -121,27 +140,19 @@ impl<L: Lanes> V3<L> {
 
     #[inline(always)]
     pub(crate) fn lane(self, k: usize) -> DVec3 {
-        DVec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
+        DVec3::new(self.x.lane(k), self.y.lane(k), self.z.lane(k))
     }
 
     #[inline(always)]
     pub(crate) fn set_lane(&mut self, k: usize, v: DVec3) {
-        set_lane(&mut self.x, k, v.x);
-        set_lane(&mut self.y, k, v.y);
-        set_lane(&mut self.z, k, v.z);
+        self.x.set_lane(k, v.x);
+        self.y.set_lane(k, v.y);
+        self.z.set_lane(k, v.z);
     }
 }
 
-/// Lane `k` of `lanes` set to `value`.
-#[inline(always)]
-pub(crate) fn set_lane<L: Lanes>(lanes: &mut L, k: usize, value: f64) {
-    let mut a = lanes.to_array();
-    a[k] = value;
-    *lanes = L::new(a);
-}
-
 #[cfg(target_arch = "x86_64")]
-pub(crate) use avx::Avx;
+pub(crate) use avx::{Avx, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
@@ -159,41 +170,85 @@ mod avx {
     #[derive(Clone, Copy)]
     pub(crate) struct Avx(__m256d);
 
+    /// Eight lanes in one AVX-512 register; masks in a mask register (`__mmask8`, as bits).
+    ///
+    /// Safety: every method runs AVX-512F instructions (and AVX for the 256-bit loads and stores).
+    /// The type's only use is inside a `#[target_feature(enable = "avx512f")]` function entered after
+    /// `is_x86_feature_detected!("avx512f")`; the methods are `#[inline(always)]`.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx512(__m512d);
+
     macro_rules! binary {
-        ($trait:ident, $method:ident, $intrinsic:ident) => {
-            impl $trait for Avx {
+        ($lanes:ident, $trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for $lanes {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, other: Self) -> Self {
                     // SAFETY: see the type's documentation
-                    Avx(unsafe { $intrinsic(self.0, other.0) })
+                    $lanes(unsafe { $intrinsic(self.0, other.0) })
                 }
             }
         };
     }
-    binary!(Add, add, _mm256_add_pd);
-    binary!(Sub, sub, _mm256_sub_pd);
-    binary!(Mul, mul, _mm256_mul_pd);
-    binary!(BitAnd, bitand, _mm256_and_pd);
-    binary!(BitOr, bitor, _mm256_or_pd);
+    binary!(Avx, Add, add, _mm256_add_pd);
+    binary!(Avx, Sub, sub, _mm256_sub_pd);
+    binary!(Avx, Mul, mul, _mm256_mul_pd);
+    binary!(Avx, BitAnd, bitand, _mm256_and_pd);
+    binary!(Avx, BitOr, bitor, _mm256_or_pd);
+    binary!(Avx512, Add, add, _mm512_add_pd);
+    binary!(Avx512, Sub, sub, _mm512_sub_pd);
+    binary!(Avx512, Mul, mul, _mm512_mul_pd);
+
+    /// The 4×4 transpose of AVX registers: lane `j` of `r[k]` goes to lane `k` of result `j`.
+    ///
+    /// Safety: AVX.
+    #[inline(always)]
+    unsafe fn transpose4(r: [__m256d; 4]) -> [__m256d; 4] {
+        // SAFETY: AVX (the caller's)
+        unsafe {
+            // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
+            let (t0, t1) = (_mm256_unpacklo_pd(r[0], r[1]), _mm256_unpackhi_pd(r[0], r[1]));
+            let (t2, t3) = (_mm256_unpacklo_pd(r[2], r[3]), _mm256_unpackhi_pd(r[2], r[3]));
+            // low halves together give columns 0 and 1, high halves columns 2 and 3
+            [
+                _mm256_permute2f128_pd::<0x20>(t0, t2),
+                _mm256_permute2f128_pd::<0x20>(t1, t3),
+                _mm256_permute2f128_pd::<0x31>(t0, t2),
+                _mm256_permute2f128_pd::<0x31>(t1, t3),
+            ]
+        }
+    }
 
     impl Lanes for Avx {
+        const N: usize = 4;
+        type Mask = Avx;
         #[inline(always)]
         fn splat(x: f64) -> Self {
             // SAFETY: see the type's documentation
             Avx(unsafe { _mm256_set1_pd(x) })
         }
         #[inline(always)]
-        fn new(a: [f64; 4]) -> Self {
+        fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+            let a = [f(0), f(1), f(2), f(3)];
             // SAFETY: see the type's documentation; `a` is four readable f64
             Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
         }
         #[inline(always)]
-        fn to_array(self) -> [f64; 4] {
+        fn lane(self, k: usize) -> f64 {
             let mut a = [0.0; 4];
             // SAFETY: see the type's documentation; `a` is four writable f64
             unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
-            a
+            a[k]
+        }
+        #[inline(always)]
+        fn set_lane(&mut self, k: usize, value: f64) {
+            let mut a = [0.0; 4];
+            // SAFETY: see the type's documentation; `a` is four f64
+            unsafe {
+                _mm256_storeu_pd(a.as_mut_ptr(), self.0);
+                a[k] = value;
+                self.0 = _mm256_loadu_pd(a.as_ptr());
+            }
         }
         #[inline(always)]
         fn le(self, other: Self) -> Self {
@@ -207,31 +262,137 @@ mod avx {
             Avx(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0) })
         }
         #[inline(always)]
+        fn bits(mask: Self) -> u32 {
+            // SAFETY: see the type's documentation
+            unsafe { _mm256_movemask_pd(mask.0) as u32 }
+        }
+        #[inline(always)]
         fn abs(self) -> Self {
             // clear the sign bit, as `f64::abs`
             // SAFETY: see the type's documentation
             Avx(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
         }
         #[inline(always)]
-        fn bitmask(self) -> u32 {
-            // SAFETY: see the type's documentation
-            unsafe { _mm256_movemask_pd(self.0) as u32 }
+        fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+            // SAFETY: see the type's documentation; each row is four readable f64
+            unsafe { transpose4(core::array::from_fn(|k| _mm256_loadu_pd(rows(k).as_ptr()))).map(Avx) }
         }
         #[inline(always)]
-        fn transpose(rows: [Self; 4]) -> [Self; 4] {
-            let [r0, r1, r2, r3] = rows.map(|r| r.0);
-            // SAFETY: see the type's documentation
+        fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
+            // SAFETY: see the type's documentation; each row is four writable f64
             unsafe {
-                // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
-                let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
-                let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
-                // low halves together give columns 0 and 1, high halves columns 2 and 3
-                [
-                    Avx(_mm256_permute2f128_pd::<0x20>(t0, t2)),
-                    Avx(_mm256_permute2f128_pd::<0x20>(t1, t3)),
-                    Avx(_mm256_permute2f128_pd::<0x31>(t0, t2)),
-                    Avx(_mm256_permute2f128_pd::<0x31>(t1, t3)),
-                ]
+                for (k, r) in transpose4(lanes.map(|l| l.0)).into_iter().enumerate() {
+                    let mut a = [0.0; 4];
+                    _mm256_storeu_pd(a.as_mut_ptr(), r);
+                    row(k, a);
+                }
+            }
+        }
+    }
+
+    /// The 4×4 transposes of the low and of the high halves of four AVX-512 registers at once:
+    /// lane `j` of half `h` of `z[k]` goes to lane `k` of half `h` of result `j`.
+    ///
+    /// Safety: AVX-512F.
+    #[inline(always)]
+    unsafe fn transpose4x2(z: [__m512d; 4]) -> [__m512d; 4] {
+        // SAFETY: AVX-512F (the caller's)
+        unsafe {
+            // per 128-bit block: t0 = (z0₀ z1₀ | z0₂ z1₂ | z0₄ z1₄ | z0₆ z1₆), t1 the odd lanes, t2, t3
+            // the same of z2, z3
+            let (t0, t1) = (_mm512_unpacklo_pd(z[0], z[1]), _mm512_unpackhi_pd(z[0], z[1]));
+            let (t2, t3) = (_mm512_unpacklo_pd(z[2], z[3]), _mm512_unpackhi_pd(z[2], z[3]));
+            // blocks 0 of t and t' then their blocks 2 (columns 0, 1 of each half), or blocks 1, 3
+            // (columns 2, 3); indices 8.. pick from the second operand
+            let even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
+            let odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+            [
+                _mm512_permutex2var_pd(t0, even, t2),
+                _mm512_permutex2var_pd(t1, even, t3),
+                _mm512_permutex2var_pd(t0, odd, t2),
+                _mm512_permutex2var_pd(t1, odd, t3),
+            ]
+        }
+    }
+
+    impl Lanes for Avx512 {
+        const N: usize = 8;
+        type Mask = u32;
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            // SAFETY: see the type's documentation
+            Avx512(unsafe { _mm512_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+            let a = [f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7)];
+            // SAFETY: see the type's documentation; `a` is eight readable f64
+            Avx512(unsafe { _mm512_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn lane(self, k: usize) -> f64 {
+            let mut a = [0.0; 8];
+            // SAFETY: see the type's documentation; `a` is eight writable f64
+            unsafe { _mm512_storeu_pd(a.as_mut_ptr(), self.0) };
+            a[k]
+        }
+        #[inline(always)]
+        fn set_lane(&mut self, k: usize, value: f64) {
+            let mut a = [0.0; 8];
+            // SAFETY: see the type's documentation; `a` is eight f64
+            unsafe {
+                _mm512_storeu_pd(a.as_mut_ptr(), self.0);
+                a[k] = value;
+                self.0 = _mm512_loadu_pd(a.as_ptr());
+            }
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> u32 {
+            // ordered, quiet: false where either lane is a NaN, as the scalar `<=`
+            // SAFETY: see the type's documentation
+            u32::from(unsafe { _mm512_cmp_pd_mask::<_CMP_LE_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> u32 {
+            // SAFETY: see the type's documentation
+            u32::from(unsafe { _mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn bits(mask: u32) -> u32 {
+            mask
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // clear the sign bit, as `f64::abs`
+            // SAFETY: see the type's documentation
+            Avx512(unsafe { _mm512_abs_pd(self.0) })
+        }
+        #[inline(always)]
+        fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+            // SAFETY: see the type's documentation; each row is four readable f64
+            unsafe {
+                // z_k = (row k | row k+4), then a 4×4 transpose in each half
+                let z = core::array::from_fn(|k| {
+                    let low = _mm512_castpd256_pd512(_mm256_loadu_pd(rows(k).as_ptr()));
+                    _mm512_insertf64x4::<1>(low, _mm256_loadu_pd(rows(k + 4).as_ptr()))
+                });
+                transpose4x2(z).map(Avx512)
+            }
+        }
+        #[inline(always)]
+        fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
+            // SAFETY: see the type's documentation; each row is four writable f64
+            unsafe {
+                // the transpose of each half is its own inverse: z_k = (row k | row k+4)
+                let z = transpose4x2(lanes.map(|l| l.0));
+                for half in 0..2 {
+                    for (k, zk) in z.iter().enumerate() {
+                        let r = if half == 0 { _mm512_castpd512_pd256(*zk) } else { _mm512_extractf64x4_pd::<1>(*zk) };
+                        let mut a = [0.0; 4];
+                        _mm256_storeu_pd(a.as_mut_ptr(), r);
+                        row(k + 4 * half, a);
+                    }
+                }
             }
         }
     }
