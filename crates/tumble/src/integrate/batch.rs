@@ -48,6 +48,71 @@ pub fn batchable(body: &RigidBody) -> bool {
     !body.fixed && !body.loads.needs_rotation()
 }
 
+/// Four `f64` fields of a body that the step reads together, by their byte offsets in `RigidBody`.
+/// When the compiler has laid them out adjacent and in order (checked at compile time), the row is
+/// read with one 32-byte load; otherwise field by field (same values either way).
+#[derive(Clone, Copy)]
+struct Row([usize; 4]);
+
+impl Row {
+    /// Whether the four fields are adjacent `f64`s in order.
+    const fn adjacent(self) -> bool {
+        let o = self.0;
+        o[1] == o[0] + 8 && o[2] == o[0] + 16 && o[3] == o[0] + 24
+    }
+
+    /// The four fields of `body`, `fields(body)` read as one load when they are adjacent.
+    #[inline(always)]
+    fn read(self, body: &RigidBody, fields: fn(&RigidBody) -> [f64; 4]) -> [f64; 4] {
+        if self.adjacent() {
+            // SAFETY: the 32 bytes at this offset are four `f64` fields of `body` (checked above; the
+            // offsets are `offset_of!` of those fields), read through a pointer to the whole body
+            #[allow(unsafe_code)]
+            unsafe {
+                (body as *const RigidBody).cast::<u8>().add(self.0[0]).cast::<[f64; 4]>().read_unaligned()
+            }
+        } else {
+            fields(body)
+        }
+    }
+}
+
+macro_rules! row {
+    ($($field:tt).+ , $($f1:tt).+ , $($f2:tt).+ , $($f3:tt).+) => {
+        Row([
+            core::mem::offset_of!(RigidBody, $($field).+),
+            core::mem::offset_of!(RigidBody, $($f1).+),
+            core::mem::offset_of!(RigidBody, $($f2).+),
+            core::mem::offset_of!(RigidBody, $($f3).+),
+        ])
+    };
+}
+
+/// `m, I` (the row's fields must match the closures that read them field by field in [`step`]).
+const ROW_MASS: Row = row!(mass.mass, mass.inertia_body.x, mass.inertia_body.y, mass.inertia_body.z);
+/// `1/m, I⁻¹`.
+const ROW_INV_MASS: Row =
+    row!(mass.inv_mass, mass.inv_inertia_body.x, mass.inv_inertia_body.y, mass.inv_inertia_body.z);
+/// `τ_body, c_lin`.
+const ROW_TORQUE: Row =
+    row!(loads.torque_body.x, loads.torque_body.y, loads.torque_body.z, loads.linear_damping);
+/// `f_world` and the first component of `f_body` (zero, not used).
+const ROW_FORCE: Row = row!(loads.force_world.x, loads.force_world.y, loads.force_world.z, loads.force_body.x);
+/// The state's 13 numbers and the gravity scale: `x, q_x`; `q_y, q_z, q_w, v_x`; `v_y, v_z, ω_x, ω_y`;
+/// `ω, s` (`ω_x, ω_y` again, not used).
+const ROW_STATE: [Row; 4] = [
+    row!(state.position.x, state.position.y, state.position.z, state.orientation.x),
+    row!(state.orientation.y, state.orientation.z, state.orientation.w, state.velocity.x),
+    row!(state.velocity.y, state.velocity.z, state.omega_body.x, state.omega_body.y),
+    row!(state.omega_body.x, state.omega_body.y, state.omega_body.z, gravity_scale),
+];
+
+/// A row of the group's bodies, transposed: lane `k` of result `j` is `fields(group[k])[j]`.
+#[inline(always)]
+fn rows<L: Lanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
+    L::from_rows(|k| row.read(group[k], fields))
+}
+
 /// One scalar of the group's bodies, `f(group[k])` in lane `k`.
 #[inline(always)]
 fn gather<L: Lanes>(group: &[&RigidBody; MAX_LANES], f: impl Fn(&RigidBody) -> f64) -> L {
@@ -180,24 +245,26 @@ fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravi
     let hv = L::splat(h);
     let group: [&RigidBody; MAX_LANES] = core::array::from_fn(|k| &bodies[index[k]]);
 
-    // parameters (constants of each body) and state
-    // four rows of each body, transposed into lanes (rows of adjacent fields: a load each)
-    let [mass, ix, iy, iz] = L::from_rows(|k| {
-        let (b, i) = (group[k], group[k].mass.inertia_body);
+    // parameters (constants of each body) and state: rows of four adjacent fields of each body
+    // (one load each where the layout has them adjacent, see `Row`), transposed into lanes
+    let [mass, ix, iy, iz] = rows::<L>(&group, ROW_MASS, |b| {
+        let i = b.mass.inertia_body;
         [b.mass.mass, i.x, i.y, i.z]
     });
-    let [inv_mass, jx, jy, jz] = L::from_rows(|k| {
-        let (b, j) = (group[k], group[k].mass.inv_inertia_body);
+    let [inv_mass, jx, jy, jz] = rows::<L>(&group, ROW_INV_MASS, |b| {
+        let j = b.mass.inv_inertia_body;
         [b.mass.inv_mass, j.x, j.y, j.z]
     });
-    let [fx, fy, fz, linear_damping] = L::from_rows(|k| {
-        let (b, f) = (group[k], group[k].loads.force_world);
-        [f.x, f.y, f.z, b.loads.linear_damping]
+    let [tx, ty, tz, linear_damping] = rows::<L>(&group, ROW_TORQUE, |b| {
+        let t = b.loads.torque_body;
+        [t.x, t.y, t.z, b.loads.linear_damping]
     });
-    let [tx, ty, tz, angular_damping] = L::from_rows(|k| {
-        let (b, t) = (group[k], group[k].loads.torque_body);
-        [t.x, t.y, t.z, b.loads.angular_damping]
+    // (the body-frame force is zero: the body is batchable)
+    let [fx, fy, fz, _] = rows::<L>(&group, ROW_FORCE, |b| {
+        let f = b.loads.force_world;
+        [f.x, f.y, f.z, b.loads.force_body.x]
     });
+    let angular_damping = gather::<L>(&group, |b| b.loads.angular_damping);
     let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
     let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
     // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic` (scalar: `f64::max` and `min` on NaNs)
@@ -205,24 +272,25 @@ fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravi
         let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
         (i.max_element() - i.min_element()) * inv.max_element()
     });
-    // g_body = s g, as `RigidBody::gravity`
-    let gravity_scale = gather::<L>(&group, |b| b.gravity_scale);
-    let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
-        .scale(gravity_scale);
-    let s = |k: usize| &group[k].state;
-    let [px, py, pz, qx] = L::from_rows(|k| {
-        let s = s(k);
+    let [px, py, pz, qx] = rows::<L>(&group, ROW_STATE[0], |b| {
+        let s = &b.state;
         [s.position.x, s.position.y, s.position.z, s.orientation.x]
     });
-    let [qy, qz, qw, vx] = L::from_rows(|k| {
-        let s = s(k);
+    let [qy, qz, qw, vx] = rows::<L>(&group, ROW_STATE[1], |b| {
+        let s = &b.state;
         [s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x]
     });
-    let [vy, vz, wx, wy] = L::from_rows(|k| {
-        let s = s(k);
+    let [vy, vz, wx, wy] = rows::<L>(&group, ROW_STATE[2], |b| {
+        let s = &b.state;
         [s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y]
     });
-    let wz = gather::<L>(&group, |b| b.state.omega_body.z);
+    let [_, _, wz, gravity_scale] = rows::<L>(&group, ROW_STATE[3], |b| {
+        let w = b.state.omega_body;
+        [w.x, w.y, w.z, b.gravity_scale]
+    });
+    // g_body = s g, as `RigidBody::gravity`
+    let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
+        .scale(gravity_scale);
     let mut position = V3 { x: px, y: py, z: pz };
     let mut velocity = V3 { x: vx, y: vy, z: vz };
     let omega = V3 { x: wx, y: wy, z: wz };

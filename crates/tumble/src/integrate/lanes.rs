@@ -274,14 +274,26 @@ mod avx {
         }
         #[inline(always)]
         fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+            // (no closure around the intrinsics: a closure does not inherit the target features, and
+            // is not always inlined)
             // SAFETY: see the type's documentation; each row is four readable f64
-            unsafe { transpose4(core::array::from_fn(|k| _mm256_loadu_pd(rows(k).as_ptr()))).map(Avx) }
+            unsafe {
+                let (r0, r1, r2, r3) = (rows(0), rows(1), rows(2), rows(3));
+                let [t0, t1, t2, t3] = transpose4([
+                    _mm256_loadu_pd(r0.as_ptr()),
+                    _mm256_loadu_pd(r1.as_ptr()),
+                    _mm256_loadu_pd(r2.as_ptr()),
+                    _mm256_loadu_pd(r3.as_ptr()),
+                ]);
+                [Avx(t0), Avx(t1), Avx(t2), Avx(t3)]
+            }
         }
         #[inline(always)]
         fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
             // SAFETY: see the type's documentation; each row is four writable f64
             unsafe {
-                for (k, r) in transpose4(lanes.map(|l| l.0)).into_iter().enumerate() {
+                let [l0, l1, l2, l3] = lanes;
+                for (k, r) in transpose4([l0.0, l1.0, l2.0, l3.0]).into_iter().enumerate() {
                     let mut a = [0.0; 4];
                     _mm256_storeu_pd(a.as_mut_ptr(), r);
                     row(k, a);
@@ -370,13 +382,17 @@ mod avx {
         #[inline(always)]
         fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
             // SAFETY: see the type's documentation; each row is four readable f64
+            // (no closure around the intrinsics: a closure does not inherit the target features)
             unsafe {
+                let r: [[f64; 4]; 8] = [rows(0), rows(1), rows(2), rows(3), rows(4), rows(5), rows(6), rows(7)];
                 // z_k = (row k | row k+4), then a 4×4 transpose in each half
-                let z = core::array::from_fn(|k| {
-                    let low = _mm512_castpd256_pd512(_mm256_loadu_pd(rows(k).as_ptr()));
-                    _mm512_insertf64x4::<1>(low, _mm256_loadu_pd(rows(k + 4).as_ptr()))
-                });
-                transpose4x2(z).map(Avx512)
+                let mut z = [_mm512_setzero_pd(); 4];
+                for k in 0..4 {
+                    let low = _mm512_castpd256_pd512(_mm256_loadu_pd(r[k].as_ptr()));
+                    z[k] = _mm512_insertf64x4::<1>(low, _mm256_loadu_pd(r[k + 4].as_ptr()));
+                }
+                let [t0, t1, t2, t3] = transpose4x2(z);
+                [Avx512(t0), Avx512(t1), Avx512(t2), Avx512(t3)]
             }
         }
         #[inline(always)]
@@ -384,7 +400,8 @@ mod avx {
             // SAFETY: see the type's documentation; each row is four writable f64
             unsafe {
                 // the transpose of each half is its own inverse: z_k = (row k | row k+4)
-                let z = transpose4x2(lanes.map(|l| l.0));
+                let [l0, l1, l2, l3] = lanes;
+                let z = transpose4x2([l0.0, l1.0, l2.0, l3.0]);
                 for half in 0..2 {
                     for (k, zk) in z.iter().enumerate() {
                         let r = if half == 0 { _mm512_castpd512_pd256(*zk) } else { _mm512_extractf64x4_pd::<1>(*zk) };
