@@ -94,8 +94,7 @@ const ROW_MASS: Row = row!(mass.mass, mass.inertia_body.x, mass.inertia_body.y, 
 const ROW_INV_MASS: Row =
     row!(mass.inv_mass, mass.inv_inertia_body.x, mass.inv_inertia_body.y, mass.inv_inertia_body.z);
 /// `τ_body, c_lin`.
-const ROW_TORQUE: Row =
-    row!(loads.torque_body.x, loads.torque_body.y, loads.torque_body.z, loads.linear_damping);
+const ROW_TORQUE: Row = row!(loads.torque_body.x, loads.torque_body.y, loads.torque_body.z, loads.linear_damping);
 /// `f_world` and the first component of `f_body` (zero, not used).
 const ROW_FORCE: Row = row!(loads.force_world.x, loads.force_world.y, loads.force_world.z, loads.force_body.x);
 /// The state's 13 numbers and the gravity scale: `x, q_x`; `q_y, q_z, q_w, v_x`; `v_y, v_z, ω_x, ω_y`;
