@@ -95,6 +95,8 @@ const ROW_INV_MASS: Row =
     row!(mass.inv_mass, mass.inv_inertia_body.x, mass.inv_inertia_body.y, mass.inv_inertia_body.z);
 /// `τ_body, c_lin`.
 const ROW_TORQUE: Row = row!(loads.torque_body.x, loads.torque_body.y, loads.torque_body.z, loads.linear_damping);
+/// `c_ang` (and `τ_y, τ_z, c_lin` again, not used).
+const ROW_DAMPING: Row = row!(loads.torque_body.y, loads.torque_body.z, loads.linear_damping, loads.angular_damping);
 /// `f_world` and the first component of `f_body` (zero, not used).
 const ROW_FORCE: Row = row!(loads.force_world.x, loads.force_world.y, loads.force_world.z, loads.force_body.x);
 /// The state's 13 numbers and the gravity scale: `x, q_x`; `q_y, q_z, q_w, v_x`; `v_y, v_z, ω_x, ω_y`;
@@ -110,12 +112,6 @@ const ROW_STATE: [Row; 4] = [
 #[inline(always)]
 fn rows<L: Lanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
     L::from_rows(|k| row.read(group[k], fields))
-}
-
-/// One scalar of the group's bodies, `f(group[k])` in lane `k`.
-#[inline(always)]
-fn gather<L: Lanes>(group: &[&RigidBody; MAX_LANES], f: impl Fn(&RigidBody) -> f64) -> L {
-    L::from_fn(|k| f(group[k]))
 }
 
 /// Whether the CPU has AVX-512F (eight lanes), detected once (the standard library caches it).
@@ -263,14 +259,16 @@ fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravi
         let f = b.loads.force_world;
         [f.x, f.y, f.z, b.loads.force_body.x]
     });
-    let angular_damping = gather::<L>(&group, |b| b.loads.angular_damping);
+    let [_, _, _, angular_damping] = rows::<L>(&group, ROW_DAMPING, |b| {
+        let l = &b.loads;
+        [l.torque_body.y, l.torque_body.z, l.linear_damping, l.angular_damping]
+    });
     let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
     let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
-    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic` (scalar: `f64::max` and `min` on NaNs)
-    let spread = gather::<L>(&group, |b| {
-        let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
-        (i.max_element() - i.min_element()) * inv.max_element()
-    });
+    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`: (max I − min I) max I⁻¹, with
+    // `DVec3::max_element`'s and `min_element`'s comparisons in the same order (NaNs included)
+    let max_element = |v: V3<L>| v.x.max(v.y.max(v.z));
+    let spread = (max_element(inertia) - inertia.x.min(inertia.y.min(inertia.z))) * max_element(inv_inertia);
     let [px, py, pz, qx] = rows::<L>(&group, ROW_STATE[0], |b| {
         let s = &b.state;
         [s.position.x, s.position.y, s.position.z, s.orientation.x]

@@ -34,6 +34,12 @@ pub(crate) trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Out
     fn bits(mask: Self::Mask) -> u32;
     /// `|self|`, lane by lane.
     fn abs(self) -> Self;
+    /// `if self > other { self } else { other }`, lane by lane (`other` where either is a NaN): the
+    /// `max` of `DVec3::max_element`, and x86's `maxpd`.
+    fn max(self, other: Self) -> Self;
+    /// `if self < other { self } else { other }`, lane by lane: `DVec3::min_element`'s `min`, x86's
+    /// `minpd`.
+    fn min(self, other: Self) -> Self;
     /// Four quantities of `N` bodies from one row of four adjacent fields per body: lane `k` of
     /// result `j` is `rows(k)[j]` (a transpose: one load per body, a few shuffles per row).
     #[inline(always)]
@@ -86,6 +92,16 @@ impl Lanes for f64x4 {
     #[inline(always)]
     fn abs(self) -> Self {
         f64x4::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        let (a, b) = (self.to_array(), other.to_array());
+        Self::from_fn(|k| if a[k] > b[k] { a[k] } else { b[k] })
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        let (a, b) = (self.to_array(), other.to_array());
+        Self::from_fn(|k| if a[k] < b[k] { a[k] } else { b[k] })
     }
 }
 
@@ -273,6 +289,17 @@ mod avx {
             Avx(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
         }
         #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // `self > other ? self : other`: the second operand where either is a NaN
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_max_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx(unsafe { _mm256_min_pd(self.0, other.0) })
+        }
+        #[inline(always)]
         fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
             // (no closure around the intrinsics: a closure does not inherit the target features, and
             // is not always inlined)
@@ -378,6 +405,17 @@ mod avx {
             // clear the sign bit, as `f64::abs`
             // SAFETY: see the type's documentation
             Avx512(unsafe { _mm512_abs_pd(self.0) })
+        }
+        #[inline(always)]
+        fn max(self, other: Self) -> Self {
+            // `self > other ? self : other`: the second operand where either is a NaN
+            // SAFETY: see the type's documentation
+            Avx512(unsafe { _mm512_max_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn min(self, other: Self) -> Self {
+            // SAFETY: see the type's documentation
+            Avx512(unsafe { _mm512_min_pd(self.0, other.0) })
         }
         #[inline(always)]
         fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
