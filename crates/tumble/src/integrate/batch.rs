@@ -29,7 +29,7 @@
 use super::euler::finish_implicit_gyroscopic;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::{Avx, Avx512};
-use super::lanes::{Lanes, V3};
+use super::lanes::{BatchLanes, V3};
 use crate::body::RigidBody;
 use crate::math::{quat_exp, DQuat, DVec3};
 use crate::world::MAX_STATE_MAGNITUDE;
@@ -110,7 +110,7 @@ const ROW_STATE: [Row; 4] = [
 
 /// A row of the group's bodies, transposed: lane `k` of result `j` is `fields(group[k])[j]`.
 #[inline(always)]
-fn rows<L: Lanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
+fn rows<L: BatchLanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
     L::from_rows(|k| row.read(group[k], fields))
 }
 
@@ -233,7 +233,7 @@ fn x8_avx512(bodies: &mut [RigidBody], lanes: &[usize; MAX_LANES], count: usize,
 
 /// The step in lanes `L`, on the bodies `lanes[..count]` (`lanes.len() >= L::N`).
 #[inline(always)]
-fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravity_world: DVec3, h: f64) -> u32 {
+fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravity_world: DVec3, h: f64) -> u32 {
     debug_assert!((1..=L::N).contains(&count) && lanes.len() >= L::N);
     let all = (1u32 << L::N) - 1;
     let index: [usize; MAX_LANES] = core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
@@ -267,8 +267,8 @@ fn step<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravi
     let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
     // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`: (max I − min I) max I⁻¹, with
     // `DVec3::max_element`'s and `min_element`'s comparisons in the same order (NaNs included)
-    let max_element = |v: V3<L>| v.x.max(v.y.max(v.z));
-    let spread = (max_element(inertia) - inertia.x.min(inertia.y.min(inertia.z))) * max_element(inv_inertia);
+    let max_element = |v: V3<L>| v.x.cmp_max(v.y.cmp_max(v.z));
+    let spread = (max_element(inertia) - inertia.x.cmp_min(inertia.y.cmp_min(inertia.z))) * max_element(inv_inertia);
     let [px, py, pz, qx] = rows::<L>(&group, ROW_STATE[0], |b| {
         let s = &b.state;
         [s.position.x, s.position.y, s.position.z, s.orientation.x]

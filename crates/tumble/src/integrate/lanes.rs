@@ -12,96 +12,61 @@ use crate::math::DVec3;
 use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
 use wide::f64x4;
 
-/// `N` `f64` lanes (four or eight) and the operations the batched step needs.
-pub(crate) trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
-    /// The number of lanes.
-    const N: usize;
-    /// The result of a comparison, lane by lane; combined with `&` and `|`, read by [`Lanes::bits`].
-    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask>;
+/// Four `f64` lanes and the operations the batched step needs.
+pub(crate) trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + BitAnd<Output = Self> + BitOr<Output = Self>
+{
     /// `x` in every lane.
     fn splat(x: f64) -> Self;
-    /// Lane `k` from `f(k)`, `k < N`.
-    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
-    /// Lane `k`.
-    fn lane(self, k: usize) -> f64;
-    /// Lane `k` set to `value`.
-    fn set_lane(&mut self, k: usize, value: f64);
-    /// The mask of `self <= other` (false where a lane is a NaN, as the scalar `<=`).
-    fn le(self, other: Self) -> Self::Mask;
+    /// Lane `k` from `a[k]`.
+    fn new(a: [f64; 4]) -> Self;
+    /// Lane `k` into `a[k]`.
+    fn to_array(self) -> [f64; 4];
+    /// The mask of `self <= other`.
+    fn le(self, other: Self) -> Self;
     /// The mask of `self < other`.
-    fn lt(self, other: Self) -> Self::Mask;
-    /// Bit `k` set where lane `k` of the mask is true (bits `N..` clear).
-    fn bits(mask: Self::Mask) -> u32;
+    fn lt(self, other: Self) -> Self;
     /// `|self|`, lane by lane.
     fn abs(self) -> Self;
-    /// `if self > other { self } else { other }`, lane by lane (`other` where either is a NaN): the
-    /// `max` of `DVec3::max_element`, and x86's `maxpd`.
-    fn max(self, other: Self) -> Self;
-    /// `if self < other { self } else { other }`, lane by lane: `DVec3::min_element`'s `min`, x86's
-    /// `minpd`.
-    fn min(self, other: Self) -> Self;
-    /// Four quantities of `N` bodies from one row of four adjacent fields per body: lane `k` of
-    /// result `j` is `rows(k)[j]` (a transpose: one load per body, a few shuffles per row).
+    /// Bit `k` set where lane `k` of the mask is true.
+    fn bitmask(self) -> u32;
+    /// The transpose of a 4×4 block: lane `j` of `rows[k]` goes to lane `k` of the result's `j`.
+    /// Four rows read from four bodies become four quantities in lanes, and back.
     #[inline(always)]
-    fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
-        core::array::from_fn(|j| Self::from_fn(|k| rows(k)[j]))
-    }
-    /// The inverse of [`Lanes::from_rows`]: `row(k, r)` receives body `k`'s row `r[j] = lane k of
-    /// lanes[j]`, for `k < N` in order.
-    #[inline(always)]
-    fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
-        for k in 0..Self::N {
-            row(k, lanes.map(|l| l.lane(k)));
-        }
+    fn transpose(rows: [Self; 4]) -> [Self; 4] {
+        let r = rows.map(Self::to_array);
+        core::array::from_fn(|j| Self::new([r[0][j], r[1][j], r[2][j], r[3][j]]))
     }
 }
 
 impl Lanes for f64x4 {
-    const N: usize = 4;
-    type Mask = f64x4;
     #[inline(always)]
     fn splat(x: f64) -> Self {
         f64x4::splat(x)
     }
     #[inline(always)]
-    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        f64x4::new([f(0), f(1), f(2), f(3)])
+    fn new(a: [f64; 4]) -> Self {
+        f64x4::new(a)
     }
     #[inline(always)]
-    fn lane(self, k: usize) -> f64 {
-        self.to_array()[k]
+    fn to_array(self) -> [f64; 4] {
+        f64x4::to_array(self)
     }
     #[inline(always)]
-    fn set_lane(&mut self, k: usize, value: f64) {
-        let mut a = self.to_array();
-        a[k] = value;
-        *self = f64x4::new(a);
-    }
-    #[inline(always)]
-    fn le(self, other: Self) -> Self::Mask {
+    fn le(self, other: Self) -> Self {
         self.simd_le(other)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> Self::Mask {
+    fn lt(self, other: Self) -> Self {
         self.simd_lt(other)
-    }
-    #[inline(always)]
-    fn bits(mask: Self::Mask) -> u32 {
-        mask.to_bitmask()
     }
     #[inline(always)]
     fn abs(self) -> Self {
         f64x4::abs(self)
     }
     #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        let (a, b) = (self.to_array(), other.to_array());
-        Self::from_fn(|k| if a[k] > b[k] { a[k] } else { b[k] })
-    }
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        let (a, b) = (self.to_array(), other.to_array());
-        Self::from_fn(|k| if a[k] < b[k] { a[k] } else { b[k] })
+    fn bitmask(self) -> u32 {
+        self.to_bitmask()
     }
 }
 
@@ -114,7 +79,12 @@ pub(crate) struct V3<L> {
     pub(crate) z: L,
 }
 
-impl<L: Lanes> V3<L> {
+/// What [`V3`]'s arithmetic needs of its lanes: `+ − ×`, lane by lane.
+pub(crate) trait Arith: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {}
+
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> Arith for T {}
+
+impl<L: Arith> V3<L> {
     /// `self · self`, summed as `DVec3::length_squared`: `(x x + y y) + z z`.
     #[inline(always)]
     pub(crate) fn length_squared(self) -> L {
@@ -153,7 +123,9 @@ impl<L: Lanes> V3<L> {
     pub(crate) fn cross(self, o: Self) -> Self {
         V3 { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
     }
+}
 
+impl<L: BatchLanes> V3<L> {
     #[inline(always)]
     pub(crate) fn lane(self, k: usize) -> DVec3 {
         DVec3::new(self.x.lane(k), self.y.lane(k), self.z.lane(k))
@@ -167,13 +139,138 @@ impl<L: Lanes> V3<L> {
     }
 }
 
+/// Lane `k` of `lanes` set to `value`.
+#[inline(always)]
+pub(crate) fn set_lane<L: Lanes>(lanes: &mut L, k: usize, value: f64) {
+    let mut a = lanes.to_array();
+    a[k] = value;
+    *lanes = L::new(a);
+}
+
+/// `N` `f64` lanes (four or eight) and the operations the batched free-body step needs
+/// ([`super::batch`]); masks of any kind.
+pub(crate) trait BatchLanes: Arith {
+    /// The number of lanes.
+    const N: usize;
+    /// The result of a comparison, lane by lane; combined with `&` and `|`, read by [`BatchLanes::bits`].
+    type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask>;
+    /// `x` in every lane.
+    fn splat(x: f64) -> Self;
+    /// Lane `k` from `f(k)`, `k < N`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `k`.
+    fn lane(self, k: usize) -> f64;
+    /// Lane `k` set to `value`.
+    fn set_lane(&mut self, k: usize, value: f64);
+    /// The mask of `self <= other` (false where a lane is a NaN, as the scalar `<=`).
+    fn le(self, other: Self) -> Self::Mask;
+    /// The mask of `self < other`.
+    fn lt(self, other: Self) -> Self::Mask;
+    /// Bit `k` set where lane `k` of the mask is true (bits `N..` clear).
+    fn bits(mask: Self::Mask) -> u32;
+    /// `|self|`, lane by lane.
+    fn abs(self) -> Self;
+    /// `if self > other { self } else { other }`, lane by lane (`other` where either is a NaN): the
+    /// `max` of `DVec3::max_element`, and x86's `maxpd`.
+    fn cmp_max(self, other: Self) -> Self;
+    /// `if self < other { self } else { other }`, lane by lane: `DVec3::min_element`'s `min`, x86's
+    /// `minpd`.
+    fn cmp_min(self, other: Self) -> Self;
+    /// Four quantities of `N` bodies from one row of four adjacent fields per body: lane `k` of
+    /// result `j` is `rows(k)[j]` (a transpose: one load per body, a few shuffles per row).
+    #[inline(always)]
+    fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+        core::array::from_fn(|j| Self::from_fn(|k| rows(k)[j]))
+    }
+    /// The inverse of [`BatchLanes::from_rows`]: `row(k, r)` receives body `k`'s row `r[j] = lane k of
+    /// lanes[j]`, for `k < N` in order.
+    #[inline(always)]
+    fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
+        for k in 0..Self::N {
+            row(k, lanes.map(|l| l.lane(k)));
+        }
+    }
+}
+
+/// The batched step's operations from the four-lane ones, for `f64x4` and [`Avx`].
+macro_rules! batch_lanes_of_lanes {
+    ($lanes:ty) => {
+        impl BatchLanes for $lanes {
+            const N: usize = 4;
+            type Mask = $lanes;
+            #[inline(always)]
+            fn splat(x: f64) -> Self {
+                <Self as Lanes>::splat(x)
+            }
+            #[inline(always)]
+            fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+                <Self as Lanes>::new([f(0), f(1), f(2), f(3)])
+            }
+            #[inline(always)]
+            fn lane(self, k: usize) -> f64 {
+                self.to_array()[k]
+            }
+            #[inline(always)]
+            fn set_lane(&mut self, k: usize, value: f64) {
+                set_lane(self, k, value)
+            }
+            #[inline(always)]
+            fn le(self, other: Self) -> Self {
+                <Self as Lanes>::le(self, other)
+            }
+            #[inline(always)]
+            fn lt(self, other: Self) -> Self {
+                <Self as Lanes>::lt(self, other)
+            }
+            #[inline(always)]
+            fn bits(mask: Self) -> u32 {
+                mask.bitmask()
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <Self as Lanes>::abs(self)
+            }
+            #[inline(always)]
+            fn cmp_max(self, other: Self) -> Self {
+                // lane by lane, as the scalar comparison (x86's `maxpd` would do the same)
+                let (a, b) = (self.to_array(), other.to_array());
+                <Self as BatchLanes>::from_fn(|k| if a[k] > b[k] { a[k] } else { b[k] })
+            }
+            #[inline(always)]
+            fn cmp_min(self, other: Self) -> Self {
+                let (a, b) = (self.to_array(), other.to_array());
+                <Self as BatchLanes>::from_fn(|k| if a[k] < b[k] { a[k] } else { b[k] })
+            }
+            #[inline(always)]
+            fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
+                // (no closure around the lanes' operations: a closure does not inherit the target
+                // features of the function it is in, and is not always inlined)
+                let (r0, r1, r2, r3) = (rows(0), rows(1), rows(2), rows(3));
+                Self::transpose([Self::new(r0), Self::new(r1), Self::new(r2), Self::new(r3)])
+            }
+            #[inline(always)]
+            fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
+                let [r0, r1, r2, r3] = Self::transpose(lanes);
+                row(0, r0.to_array());
+                row(1, r1.to_array());
+                row(2, r2.to_array());
+                row(3, r3.to_array());
+            }
+        }
+    };
+}
+
+batch_lanes_of_lanes!(f64x4);
+#[cfg(target_arch = "x86_64")]
+batch_lanes_of_lanes!(Avx);
+
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx::{Avx, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
-    use super::Lanes;
+    use super::{BatchLanes, Lanes};
     use core::arch::x86_64::*;
     use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
 
@@ -186,85 +283,41 @@ mod avx {
     #[derive(Clone, Copy)]
     pub(crate) struct Avx(__m256d);
 
-    /// Eight lanes in one AVX-512 register; masks in a mask register (`__mmask8`, as bits).
-    ///
-    /// Safety: every method runs AVX-512F instructions (and AVX for the 256-bit loads and stores).
-    /// The type's only use is inside a `#[target_feature(enable = "avx512f")]` function entered after
-    /// `is_x86_feature_detected!("avx512f")`; the methods are `#[inline(always)]`.
-    #[derive(Clone, Copy)]
-    pub(crate) struct Avx512(__m512d);
-
     macro_rules! binary {
-        ($lanes:ident, $trait:ident, $method:ident, $intrinsic:ident) => {
-            impl $trait for $lanes {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, other: Self) -> Self {
                     // SAFETY: see the type's documentation
-                    $lanes(unsafe { $intrinsic(self.0, other.0) })
+                    Avx(unsafe { $intrinsic(self.0, other.0) })
                 }
             }
         };
     }
-    binary!(Avx, Add, add, _mm256_add_pd);
-    binary!(Avx, Sub, sub, _mm256_sub_pd);
-    binary!(Avx, Mul, mul, _mm256_mul_pd);
-    binary!(Avx, BitAnd, bitand, _mm256_and_pd);
-    binary!(Avx, BitOr, bitor, _mm256_or_pd);
-    binary!(Avx512, Add, add, _mm512_add_pd);
-    binary!(Avx512, Sub, sub, _mm512_sub_pd);
-    binary!(Avx512, Mul, mul, _mm512_mul_pd);
-
-    /// The 4×4 transpose of AVX registers: lane `j` of `r[k]` goes to lane `k` of result `j`.
-    ///
-    /// Safety: AVX.
-    #[inline(always)]
-    unsafe fn transpose4(r: [__m256d; 4]) -> [__m256d; 4] {
-        // SAFETY: AVX (the caller's)
-        unsafe {
-            // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
-            let (t0, t1) = (_mm256_unpacklo_pd(r[0], r[1]), _mm256_unpackhi_pd(r[0], r[1]));
-            let (t2, t3) = (_mm256_unpacklo_pd(r[2], r[3]), _mm256_unpackhi_pd(r[2], r[3]));
-            // low halves together give columns 0 and 1, high halves columns 2 and 3
-            [
-                _mm256_permute2f128_pd::<0x20>(t0, t2),
-                _mm256_permute2f128_pd::<0x20>(t1, t3),
-                _mm256_permute2f128_pd::<0x31>(t0, t2),
-                _mm256_permute2f128_pd::<0x31>(t1, t3),
-            ]
-        }
-    }
+    binary!(Add, add, _mm256_add_pd);
+    binary!(Sub, sub, _mm256_sub_pd);
+    binary!(Mul, mul, _mm256_mul_pd);
+    binary!(BitAnd, bitand, _mm256_and_pd);
+    binary!(BitOr, bitor, _mm256_or_pd);
 
     impl Lanes for Avx {
-        const N: usize = 4;
-        type Mask = Avx;
         #[inline(always)]
         fn splat(x: f64) -> Self {
             // SAFETY: see the type's documentation
             Avx(unsafe { _mm256_set1_pd(x) })
         }
         #[inline(always)]
-        fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-            let a = [f(0), f(1), f(2), f(3)];
+        fn new(a: [f64; 4]) -> Self {
             // SAFETY: see the type's documentation; `a` is four readable f64
             Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
         }
         #[inline(always)]
-        fn lane(self, k: usize) -> f64 {
+        fn to_array(self) -> [f64; 4] {
             let mut a = [0.0; 4];
             // SAFETY: see the type's documentation; `a` is four writable f64
             unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
-            a[k]
-        }
-        #[inline(always)]
-        fn set_lane(&mut self, k: usize, value: f64) {
-            let mut a = [0.0; 4];
-            // SAFETY: see the type's documentation; `a` is four f64
-            unsafe {
-                _mm256_storeu_pd(a.as_mut_ptr(), self.0);
-                a[k] = value;
-                self.0 = _mm256_loadu_pd(a.as_ptr());
-            }
+            a
         }
         #[inline(always)]
         fn le(self, other: Self) -> Self {
@@ -278,56 +331,58 @@ mod avx {
             Avx(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, other.0) })
         }
         #[inline(always)]
-        fn bits(mask: Self) -> u32 {
-            // SAFETY: see the type's documentation
-            unsafe { _mm256_movemask_pd(mask.0) as u32 }
-        }
-        #[inline(always)]
         fn abs(self) -> Self {
             // clear the sign bit, as `f64::abs`
             // SAFETY: see the type's documentation
             Avx(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
         }
         #[inline(always)]
-        fn max(self, other: Self) -> Self {
-            // `self > other ? self : other`: the second operand where either is a NaN
+        fn bitmask(self) -> u32 {
             // SAFETY: see the type's documentation
-            Avx(unsafe { _mm256_max_pd(self.0, other.0) })
+            unsafe { _mm256_movemask_pd(self.0) as u32 }
         }
         #[inline(always)]
-        fn min(self, other: Self) -> Self {
+        fn transpose(rows: [Self; 4]) -> [Self; 4] {
+            let [r0, r1, r2, r3] = rows.map(|r| r.0);
             // SAFETY: see the type's documentation
-            Avx(unsafe { _mm256_min_pd(self.0, other.0) })
-        }
-        #[inline(always)]
-        fn from_rows(rows: impl Fn(usize) -> [f64; 4]) -> [Self; 4] {
-            // (no closure around the intrinsics: a closure does not inherit the target features, and
-            // is not always inlined)
-            // SAFETY: see the type's documentation; each row is four readable f64
             unsafe {
-                let (r0, r1, r2, r3) = (rows(0), rows(1), rows(2), rows(3));
-                let [t0, t1, t2, t3] = transpose4([
-                    _mm256_loadu_pd(r0.as_ptr()),
-                    _mm256_loadu_pd(r1.as_ptr()),
-                    _mm256_loadu_pd(r2.as_ptr()),
-                    _mm256_loadu_pd(r3.as_ptr()),
-                ]);
-                [Avx(t0), Avx(t1), Avx(t2), Avx(t3)]
-            }
-        }
-        #[inline(always)]
-        fn to_rows(lanes: [Self; 4], mut row: impl FnMut(usize, [f64; 4])) {
-            // SAFETY: see the type's documentation; each row is four writable f64
-            unsafe {
-                let [l0, l1, l2, l3] = lanes;
-                for (k, r) in transpose4([l0.0, l1.0, l2.0, l3.0]).into_iter().enumerate() {
-                    let mut a = [0.0; 4];
-                    _mm256_storeu_pd(a.as_mut_ptr(), r);
-                    row(k, a);
-                }
+                // t0 = (r0₀ r1₀ r0₂ r1₂), t1 = (r0₁ r1₁ r0₃ r1₃), t2, t3 the same of r2, r3
+                let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
+                let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
+                // low halves together give columns 0 and 1, high halves columns 2 and 3
+                [
+                    Avx(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                    Avx(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+                ]
             }
         }
     }
+
+    /// Eight lanes in one AVX-512 register; masks in a mask register (`__mmask8`, as bits).
+    ///
+    /// Safety: every method runs AVX-512F instructions (and AVX for the 256-bit loads and stores).
+    /// The type's only use is inside a `#[target_feature(enable = "avx512f")]` function entered after
+    /// `is_x86_feature_detected!("avx512f")`; the methods are `#[inline(always)]`.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx512(__m512d);
+
+    macro_rules! binary512 {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx512 {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, other: Self) -> Self {
+                    // SAFETY: see the type's documentation
+                    Avx512(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    binary512!(Add, add, _mm512_add_pd);
+    binary512!(Sub, sub, _mm512_sub_pd);
+    binary512!(Mul, mul, _mm512_mul_pd);
 
     /// The 4×4 transposes of the low and of the high halves of four AVX-512 registers at once:
     /// lane `j` of half `h` of `z[k]` goes to lane `k` of half `h` of result `j`.
@@ -354,7 +409,7 @@ mod avx {
         }
     }
 
-    impl Lanes for Avx512 {
+    impl BatchLanes for Avx512 {
         const N: usize = 8;
         type Mask = u32;
         #[inline(always)]
@@ -407,13 +462,13 @@ mod avx {
             Avx512(unsafe { _mm512_abs_pd(self.0) })
         }
         #[inline(always)]
-        fn max(self, other: Self) -> Self {
+        fn cmp_max(self, other: Self) -> Self {
             // `self > other ? self : other`: the second operand where either is a NaN
             // SAFETY: see the type's documentation
             Avx512(unsafe { _mm512_max_pd(self.0, other.0) })
         }
         #[inline(always)]
-        fn min(self, other: Self) -> Self {
+        fn cmp_min(self, other: Self) -> Self {
             // SAFETY: see the type's documentation
             Avx512(unsafe { _mm512_min_pd(self.0, other.0) })
         }
