@@ -108,6 +108,20 @@ const ROW_STATE: [Row; 4] = [
     row!(state.omega_body.x, state.omega_body.y, state.omega_body.z, gravity_scale),
 ];
 
+/// Lane `k` of a 3-vector of lanes.
+#[inline(always)]
+fn lane3<L: BatchLanes>(v: V3<L>, k: usize) -> DVec3 {
+    DVec3::new(v.x.lane(k), v.y.lane(k), v.z.lane(k))
+}
+
+/// Lane `k` of a 3-vector of lanes set to `value`.
+#[inline(always)]
+fn set_lane3<L: BatchLanes>(v: &mut V3<L>, k: usize, value: DVec3) {
+    v.x.set_lane(k, value.x);
+    v.y.set_lane(k, value.y);
+    v.z.set_lane(k, value.z);
+}
+
 /// A row of the group's bodies, transposed: lane `k` of result `j` is `fields(group[k])[j]`.
 #[inline(always)]
 fn rows<L: BatchLanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
@@ -325,7 +339,7 @@ fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, 
     let rejected = !L::bits(converged & kept) & all;
     if rejected != 0 {
         for k in (0..L::N).filter(|k| rejected & (1 << k) != 0) {
-            omega_new.set_lane(k, finish_implicit_gyroscopic(i.lane(k), w.lane(k), h));
+            set_lane3(&mut omega_new, k, finish_implicit_gyroscopic(lane3(i, k), lane3(w, k), h));
         }
     }
 
@@ -344,7 +358,7 @@ fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, 
     let large = !L::bits(x2.lt(L::splat(0.01))) & all;
     if large != 0 {
         for k in (0..L::N).filter(|k| large & (1 << k) != 0) {
-            let exp = quat_exp(phi.lane(k));
+            let exp = quat_exp(lane3(phi, k));
             for (component, value) in e.iter_mut().zip([exp.x, exp.y, exp.z, exp.w]) {
                 component.set_lane(k, value);
             }

@@ -7,6 +7,11 @@
 //! Both perform the IEEE operations `+ − ×` lane by lane, as the scalar code does (no fused
 //! multiply-add), so the results are the same bits either way. A mask is a lane value with all bits
 //! set (true) or clear (false); a comparison with a NaN is false.
+//!
+//! The batched free-body step is generic over [`BatchLanes`], four or eight lanes: the two above,
+//! and [`Avx512`] (x86-64 only), eight lanes in one AVX-512 register, used only inside functions
+//! compiled with `#[target_feature(enable = "avx512f")]` and called after
+//! `is_x86_feature_detected!("avx512f")`; its masks are the bits of a mask register.
 
 use crate::math::DVec3;
 use core::ops::{Add, BitAnd, BitOr, Mul, Sub};
@@ -125,17 +130,10 @@ impl<L: Arith> V3<L> {
     }
 }
 
-impl<L: BatchLanes> V3<L> {
+impl<L: Lanes> V3<L> {
     #[inline(always)]
     pub(crate) fn lane(self, k: usize) -> DVec3 {
-        DVec3::new(self.x.lane(k), self.y.lane(k), self.z.lane(k))
-    }
-
-    #[inline(always)]
-    pub(crate) fn set_lane(&mut self, k: usize, v: DVec3) {
-        self.x.set_lane(k, v.x);
-        self.y.set_lane(k, v.y);
-        self.z.set_lane(k, v.z);
+        DVec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
     }
 }
 
