@@ -1,8 +1,9 @@
-//! Semi-implicit Euler on four bodies at once: the same equations as
+//! Semi-implicit Euler on four or eight bodies at once: the same equations as
 //! [`semi_implicit_euler_step`](super::euler::semi_implicit_euler_step), with each scalar of a body
-//! replaced by four lanes holding that scalar for four bodies (structure of arrays in registers):
-//! one AVX register where the CPU has AVX2 (detected at run time, the kernel compiled with
-//! `#[target_feature(enable = "avx2")]`), `wide::f64x4` otherwise ([`super::lanes`]).
+//! replaced by lanes holding that scalar for several bodies (structure of arrays in registers): eight
+//! lanes in one AVX-512 register where the CPU has AVX-512F, four in one AVX register where it has
+//! AVX2 (detected at run time, the kernel compiled with `#[target_feature(enable = "avx512f")]` or
+//! `"avx2"`), `wide::f64x4` otherwise ([`super::lanes`]). One generic kernel for all three.
 //!
 //! Bit-identical to the scalar step: every lane performs the scalar step's IEEE operations in the
 //! same order (`+ − ×` only, no fused multiply-add, no reassociation: Rust never contracts), and the
@@ -16,11 +17,12 @@
 //! Only bodies whose loads do not depend on their orientation take this path ([`batchable`]);
 //! the others (body-frame forces, world-frame torques, point forces) keep the scalar step.
 //!
-//! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group of four is gathered
-//! into lanes, stepped and scattered back, so every reader sees the stepped state and a user may
-//! change any body between steps. Gather and scatter go by rows of four adjacent fields (`m, I`;
-//! `1/m, I⁻¹`; `f_load, c_lin`; `τ_load, c_ang`; the state's 13 numbers in three rows and one),
-//! each row a load, four rows of four bodies turned into four lanes by one 4×4 transpose.
+//! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group is gathered into
+//! lanes, stepped and scattered back, so every reader sees the stepped state and a user may change
+//! any body between steps. Gather and scatter go by rows of four adjacent fields (`m, I`; `1/m, I⁻¹`;
+//! `τ_load, c_lin`; `f_load`; `c_ang`; the state's 13 numbers and the gravity scale in four rows), each
+//! row one load where the layout has the fields adjacent (`Row`), the rows of the group's bodies
+//! turned into lanes by 4×4 transposes (two at once in AVX-512 registers).
 //!
 //! No copy of the constant parameters is kept between steps: `World::bodies` is a public field
 //! that any reader may change, so a copy would have to be checked against the bodies each step,

@@ -1,5 +1,5 @@
-//! The free bodies' integration under `semi_implicit_euler`, four bodies at a time
-//! ([`crate::integrate::batch`]); bit-identical to the per-body loop of `integrate_free_bodies`,
+//! The free bodies' integration under `semi_implicit_euler`, eight bodies at a time with AVX-512,
+//! four otherwise ([`crate::integrate::batch`]); bit-identical to the per-body loop of `integrate_free_bodies`,
 //! with the same divergence check: the first diverged body in scene order is named, and every body
 //! stepped so far has its state saved for the undo.
 
@@ -10,7 +10,7 @@ use crate::integrate::BodyRhs;
 
 impl World {
     /// `integrate_free_bodies` for `semi_implicit_euler`: the batchable bodies go through the
-    /// four-lane step in scene order, the others through the scalar step (a pending group is stepped
+    /// batched step (eight or four lanes, [`batch_width`]) in scene order, the others through the scalar step (a pending group is stepped
     /// first, so bodies are stepped and checked in scene order); `watch`: stop at the first moving
     /// body with a shape. When stopped, the number of bodies whose states were saved (`save`) so far.
     pub(super) fn integrate_free_bodies_batched(&mut self, save: bool, watch: bool) -> Result<(), (usize, Stop)> {
