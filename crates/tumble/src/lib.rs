@@ -17,7 +17,7 @@
 //! files, angular velocity in the world frame unless a name ends in `_body`.
 // `unsafe` is allowed in two places only: the AVX lanes of the batched step and of the contact
 // solver, and their run-time dispatch (`integrate::lanes`, `integrate::batch`, `contact::batch`),
-// where the CPU's AVX2 is detected before use
+// where the CPU's AVX2 (AVX-512F for the eight lanes of the batched step) is detected before use
 #![deny(unsafe_code)]
 
 pub mod analytic;
