@@ -158,16 +158,15 @@ struct Slot<L> {
 
 impl Slot<f64x4> {
     /// The lanes of `constraints[index[k]]`, inert data in the lanes of [`NONE`], with the
-    /// separation at the positions of the bodies `ma`, `mb`.
-    fn load(constraints: &[Constraint], index: &[usize; LANES], ma: &Motion4<f64x4>, mb: &Motion4<f64x4>) -> Self {
-        let mut s = Slot::default();
+    /// separation at the positions of the bodies `ma`, `mb`; loaded in place into a slot fresh from
+    /// `Slot::default()` (a slot is 1.8 kB: no copy of it).
+    fn load(&mut self, constraints: &[Constraint], index: &[usize; LANES], ma: &Motion4<f64x4>, mb: &Motion4<f64x4>) {
         for (k, &i) in index.iter().enumerate() {
             if i != NONE {
-                s.set_lane(k, &constraints[i]);
+                self.set_lane(k, &constraints[i]);
             }
         }
-        s.separation = s.measure(ma, mb);
-        s
+        self.separation = self.measure(ma, mb);
     }
 
     fn set_lane(&mut self, k: usize, c: &Constraint) {
@@ -570,7 +569,8 @@ impl LaneSolver {
                             index[k] = s + j;
                         }
                     }
-                    self.slots.push(Slot::load(constraints, &index, &ma, &mb));
+                    self.slots.push(Slot::default());
+                    self.slots.last_mut().expect("pushed").load(constraints, &index, &ma, &mb);
                     self.slot_index.push(index);
                 }
                 batch.slots.1 = self.slots.len();
