@@ -246,7 +246,7 @@ pub fn simulate<W: Write, C: Write>(
             break;
         }
         let step = world.steps();
-        if step % every == 0 || step == total {
+        if step.is_multiple_of(every) || step == total {
             write_sample(world, writer, contacts.as_deref_mut())?;
             monitor.observe(world);
             last_sampled = step;

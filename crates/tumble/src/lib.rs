@@ -15,8 +15,9 @@
 //!
 //! Conventions: SI units, `f64`, world z up, quaternions `world_from_body` written `[w, x, y, z]` in
 //! files, angular velocity in the world frame unless a name ends in `_body`.
-// `unsafe` is allowed in one place only: the AVX lanes of the batched step and their run-time
-// dispatch (`integrate::lanes`, `integrate::batch`), where the CPU's AVX2 is detected before use
+// `unsafe` is allowed in two places only: the AVX lanes of the batched step and of the contact
+// solver, and their run-time dispatch (`integrate::lanes`, `integrate::batch`, `contact::batch`),
+// where the CPU's AVX2 (AVX-512F for the eight lanes of the batched step) is detected before use
 #![deny(unsafe_code)]
 
 pub mod analytic;

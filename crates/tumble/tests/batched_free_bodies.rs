@@ -1,15 +1,19 @@
-//! The batched `semi_implicit_euler` path of `World::step` (four bodies per `f64x4`,
-//! `integrate::batch`) against the scalar per-body step (`advance_body`): bit-identical states over
-//! many steps on random bodies, the divergence check naming the first bad body in scene order and
-//! undoing the step, and no allocation per step.
+//! The batched `semi_implicit_euler` path of `World::step` (four bodies per `f64x4` or AVX register,
+//! eight per AVX-512 register, `integrate::batch`) against the scalar per-body step
+//! (`advance_body`): bit-identical states over many steps on random bodies, each kernel driven
+//! directly too; the divergence check naming the first bad body in scene order and undoing the
+//! step; the integration pass's look for a body with a shape (the contact stage's work) seeing the
+//! bodies' edits; and no allocation per step.
 //!
 //! The allocator counts the allocations of each thread separately, so that the test harness's own
 //! threads do not disturb the count.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use tumble::body::{Frame, Loads, PointForce};
-use tumble::integrate::batch::{batchable, semi_implicit_euler_x4, semi_implicit_euler_x4_portable, LANES};
+use tumble::body::{Frame, Loads, PointForce, Shape};
+use tumble::integrate::batch::{
+    batchable, semi_implicit_euler_x4, semi_implicit_euler_x4_portable, semi_implicit_euler_x8_avx512, LANES, MAX_LANES,
+};
 use tumble::integrate::{advance_body, BodyRhs, Tolerances};
 use tumble::math::{quat_exp, DQuat, DVec3};
 use tumble::{Integrator, MassProperties, RigidBody, World, WorldConfig};
@@ -169,15 +173,16 @@ fn batched_semi_implicit_euler_is_bit_identical_to_the_scalar_step() {
     }
 }
 
-/// A four-lane step: `semi_implicit_euler_x4` or its portable twin.
-type Kernel = fn(&mut [RigidBody], &[usize; LANES], usize, DVec3, f64) -> u32;
+/// A step of `N` lanes: `semi_implicit_euler_x4` or its portable twin (`N = 4`), the AVX-512 one
+/// (`N = 8`).
+type Kernel<const N: usize> = fn(&mut [RigidBody], &[usize; N], usize, DVec3, f64) -> u32;
 
-/// The four-lane kernel `kernel` applied directly to every batchable body of `bodies` (groups of up
-/// to four in order; the others take the scalar step), as `World::step` drives it.
-fn kernel_step(kernel: Kernel, bodies: &mut [RigidBody], config: &WorldConfig) {
+/// The `N`-lane kernel `kernel` applied directly to every batchable body of `bodies` (groups of up
+/// to `N` in order; the others take the scalar step), as `World::step` drives it.
+fn kernel_step<const N: usize>(kernel: Kernel<N>, bodies: &mut [RigidBody], config: &WorldConfig) {
     let lanes: Vec<usize> = (0..bodies.len()).filter(|&i| batchable(&bodies[i])).collect();
-    for group in lanes.chunks(LANES) {
-        let mut indices = [group[0]; LANES];
+    for group in lanes.chunks(N) {
+        let mut indices = [group[0]; N];
         indices[..group.len()].copy_from_slice(group);
         assert_eq!(kernel(bodies, &indices, group.len(), config.gravity, config.dt), 0);
     }
@@ -199,12 +204,133 @@ fn the_portable_and_the_dispatched_kernels_give_the_scalar_bits() {
         let mut dispatched = reference.clone();
         for step in 0..200 {
             scalar_step(&mut reference, &config);
-            kernel_step(semi_implicit_euler_x4_portable, &mut portable, &config);
-            kernel_step(semi_implicit_euler_x4, &mut dispatched, &config);
+            kernel_step::<LANES>(semi_implicit_euler_x4_portable, &mut portable, &config);
+            kernel_step::<LANES>(semi_implicit_euler_x4, &mut dispatched, &config);
             for ((a, b), c) in portable.iter().zip(&dispatched).zip(&reference) {
                 assert_eq!(bits(a), bits(c), "portable, seed {seed}, step {step}, body {}", a.name);
                 assert_eq!(bits(b), bits(c), "dispatched, seed {seed}, step {step}, body {}", b.name);
             }
+        }
+    }
+}
+
+#[test]
+fn the_eight_lane_kernel_gives_the_scalar_bits() {
+    // AVX-512 lanes, where the CPU has AVX-512F (else the world's step uses four lanes, tested above)
+    #[cfg(target_arch = "x86_64")]
+    let avx512 = std::arch::is_x86_feature_detected!("avx512f");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx512 = false;
+    if !avx512 {
+        eprintln!("no AVX-512F on this CPU: the eight-lane kernel is not run");
+        return;
+    }
+    let kernel: Kernel<MAX_LANES> =
+        |bodies, lanes, count, gravity, h| semi_implicit_euler_x8_avx512(bodies, lanes, count, gravity, h).unwrap();
+    // counts that leave 1..7 bodies in the last group, and many groups
+    for (seed, n) in [(71, 1), (72, 9), (73, 11), (74, 14), (75, 16), (76, 203), (77, 1001)] {
+        let config = config();
+        let mut reference = random_bodies(seed, n);
+        let mut eight = reference.clone();
+        for step in 0..200 {
+            scalar_step(&mut reference, &config);
+            kernel_step::<MAX_LANES>(kernel, &mut eight, &config);
+            for (a, b) in eight.iter().zip(&reference) {
+                assert_eq!(bits(a), bits(b), "seed {seed}, n {n}, step {step}, body {}", a.name);
+            }
+        }
+    }
+}
+
+/// `bodies` with a fixed ground plane (its normal world z) and a ball of radius 0.5 m sunk 5 cm into
+/// it, put at index `ball`; the ball has no shape yet.
+fn with_ground_and_ball(mut bodies: Vec<RigidBody>, ball: usize) -> Vec<RigidBody> {
+    let mut ground = RigidBody::new("ground", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+    ground.fixed = true;
+    ground.shape = Some(Shape::Plane);
+    let mut b = RigidBody::new("ball", MassProperties::from_principal(1.0, DVec3::splat(0.1)).unwrap());
+    b.state.position = DVec3::new(0.0, 0.0, 0.45);
+    bodies.insert(ball, b);
+    bodies.push(ground);
+    bodies
+}
+
+#[test]
+fn a_shape_given_or_taken_between_steps_is_seen() {
+    // Whether the contact stage has work (a moving body with a shape) is found by the integration
+    // pass itself, and the last body found is remembered and checked again at each step: every
+    // change of a shape or of the fixed flag between steps must be seen. The ball, sunk into the
+    // ground, is pushed out by the contact stage whenever it runs, and falls freely otherwise; the
+    // other bodies (no shape) take the scalar step whatever happens, never two.
+    let config = config();
+    let ball = 23;
+    let mut world = World::new(config, with_ground_and_ball(random_bodies(81, 40), ball));
+    let mut reference = world.bodies.clone();
+    let sphere = Some(Shape::Sphere { radius: 0.5 });
+    for step in 0..80 {
+        let edit = match step {
+            10 | 30 | 70 => Some((sphere.clone(), false)),
+            20 | 60 => Some((None, false)),
+            40 => Some((sphere.clone(), true)),
+            50 => Some((sphere.clone(), false)),
+            _ => None,
+        };
+        if let Some((shape, fixed)) = edit.clone() {
+            for body in [&mut world.bodies[ball], &mut reference[ball]] {
+                body.shape = shape.clone();
+                body.fixed = fixed;
+                // sunk again, at rest: the contact stage pushes it if it runs
+                body.state.position = DVec3::new(0.0, 0.0, 0.45);
+                body.state.velocity = DVec3::ZERO;
+            }
+        }
+        let contacts = world.bodies[ball].shape.is_some() && !world.bodies[ball].fixed;
+        world.step().unwrap();
+        scalar_step(&mut reference, &config);
+        for (i, (a, b)) in world.bodies.iter().zip(&reference).enumerate() {
+            if i != ball {
+                assert_eq!(bits(a), bits(b), "step {step}, body {}", a.name);
+            }
+        }
+        let (a, b) = (&world.bodies[ball], &reference[ball]);
+        if !contacts {
+            assert_eq!(bits(a), bits(b), "step {step}: the ball falls freely");
+        } else if edit.is_some() {
+            // the step right after the edit: sunk 5 cm, the ball is pushed up (falling freely, it
+            // would sink further)
+            assert!(a.state.position.z > 0.45, "step {step}: the ball is not pushed: {:?}", a.state);
+            assert!(b.state.position.z < 0.45);
+        }
+        reference[ball] = world.bodies[ball].clone();
+    }
+}
+
+#[test]
+fn a_divergence_before_a_body_with_a_shape_is_named_after_the_contact_stage() {
+    // the first body diverges; a later one has a shape, so the contact stage runs first (the pass
+    // that found the divergence is undone, the step redone with contacts) and the error is the same
+    let config = config();
+    for ball in [1, 9, 30] {
+        let mut bodies = random_bodies(91, 30);
+        bodies[0].fixed = false;
+        bodies[0].loads = Loads { force_world: DVec3::new(1e15 * bodies[0].mass.mass, 0.0, 0.0), ..Loads::default() };
+        let mut bodies = with_ground_and_ball(bodies, ball);
+        bodies[ball].shape = Some(Shape::Sphere { radius: 0.5 });
+        let mut world = World::new(config, bodies);
+        let before = world.bodies.clone();
+        let err = world.step().unwrap_err();
+        assert_eq!(err.body, "body0", "{err}");
+        assert!(err.quantity.contains("velocity"), "{err}");
+        assert_eq!(world.steps(), 0);
+        for (a, b) in world.bodies.iter().zip(&before) {
+            assert_eq!(bits(a), bits(b), "body {} was not restored", a.name);
+        }
+        // without the ball's shape, the same error from the pass without contacts
+        let mut world = World::new(config, before.clone());
+        world.bodies[ball].shape = None;
+        assert_eq!(world.step().unwrap_err(), err);
+        for (a, b) in world.bodies.iter().zip(&before) {
+            assert_eq!(bits(a), bits(b), "body {} was not restored", a.name);
         }
     }
 }

@@ -431,3 +431,63 @@ fn the_energy_taken_by_link_contacts_closes_the_chain_drops_balance() {
     // round): 2.9 and 4.5 µJ in the two steps after the strike at 0.306 s, in which no contact acts
     assert!(worst <= 1e-5 * total, "the balance is off by {worst} J of {total} J lost");
 }
+
+/// A robot link wakes a sleeping body: the paddle, driven by a small constant joint force (0.5 N on
+/// 0.5 kg), reaches a box lying 0.55 m away on the floor after about 1 s, by which time the box has
+/// been still for its `sleep_time` and fallen asleep. The box must wake by the step of the paddle's
+/// first push (the link's contact wakes the island as it comes within reach), never sleep while
+/// pushed, be moved by the strike, and end where it ends with sleeping off.
+#[test]
+fn a_robot_link_wakes_a_sleeping_box() {
+    let run = |sleep: bool| {
+        let text = format!(
+            "version = 1\n[world]\ndt = 0.001\nduration = 2.0\nintegrator = \"rk4\"\nfriction = 0.5\nrestitution = 0.0\n\
+            sleep = {sleep}\n\
+            [[body]]\nname = \"ground\"\nshape = {{ type = \"plane\" }}\nfixed = true\n\
+            [[body]]\nname = \"box\"\nshape = {{ type = \"box\", half_extents = [0.1, 0.1, 0.1] }}\nmass = 1.0\n\
+            position = [0.7, 0.0, 0.1]\n\
+            [[robot]]\nname = \"pusher\"\nurdf = \"pusher.urdf\"\nposition = [0.0, 0.0, 0.105]\n\
+            torque = {{ slide = 0.5 }}\nfriction = 0.0\n"
+        );
+        let (_dir, mut scene) = scene_with(&[("pusher.urdf", PUSHER)], &text);
+        let world = &mut scene.world;
+        let b = world.body_index("box").unwrap();
+        let (mut asleep_at, mut woke_at, mut first_push, mut asleep_while_pushed) = (None, None, None, 0);
+        for step in 1..=world.config.step_count() {
+            let asleep_before = world.contacts().sleep().is_asleep(b);
+            world.step().unwrap();
+            let asleep = world.contacts().sleep().is_asleep(b);
+            if asleep && asleep_at.is_none() {
+                asleep_at = Some(step);
+            }
+            if asleep_before && !asleep && first_push.is_none() {
+                woke_at = Some(step);
+            }
+            let pushed = world.contacts().links.active().any(|(c, p)| c.a == Side::Body(b) && p != DVec3::ZERO);
+            if pushed {
+                first_push.get_or_insert(step);
+                asleep_while_pushed += asleep as u32;
+            }
+        }
+        (world.bodies[b].state.position, asleep_at, woke_at, first_push, asleep_while_pushed)
+    };
+    let (end, asleep_at, woke_at, first_push, asleep_while_pushed) = run(true);
+    let (end_awake, never, _, first_push_awake, _) = run(false);
+    println!(
+        "box asleep at step {asleep_at:?}, woke at {woke_at:?}, first pushed at {first_push:?} ({first_push_awake:?} with \
+         sleeping off); ends at x = {:.6} m, {:.6} m with sleeping off ({:.2e} m apart)",
+        end.x,
+        end_awake.x,
+        (end - end_awake).length()
+    );
+    assert_eq!(never, None, "a box slept with sleeping off");
+    let (asleep_at, first_push) = (asleep_at.expect("the box never fell asleep"), first_push.expect("never pushed"));
+    assert!(asleep_at < first_push, "the box fell asleep at step {asleep_at}, after the first push {first_push}");
+    let woke_at = woke_at.expect("the box was pushed but never woke before");
+    assert!(woke_at <= first_push, "woke at step {woke_at}, after the first push at {first_push}");
+    assert_eq!(asleep_while_pushed, 0, "the box slept in steps in which the paddle pushed it");
+    // 0.5 N cannot hold the box sliding (μ m g = 4.9 N): the paddle's strike moves it, then the box
+    // and the paddle stop against the floor's friction
+    assert!(end.x > 0.71, "the strike did not move the box: it ends at x = {}", end.x);
+    assert!((end - end_awake).length() < 1e-3, "sleeping moved the box's end by {} m", (end - end_awake).length());
+}

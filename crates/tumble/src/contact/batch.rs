@@ -20,7 +20,9 @@
 //! instead of 1.7 mm. A manifold that finds no free colour goes to the overflow, solved one at a
 //! time after the colours by the scalar [`solve_pair`].
 //!
-//! **Lanes**: within a colour, four manifolds per batch, lane `k` the `k`-th; the batch's point slot
+//! **Lanes**: within a colour, the manifolds sorted by their number of points (their order there
+//! changes no bit, and a batch of alike manifolds has little padding), four manifolds per batch,
+//! lane `k` the `k`-th; the batch's point slot
 //! `j` holds the `j`-th point of each manifold, so the points of one pair keep the Gauss–Seidel
 //! order of the scalar solver. Manifolds with fewer points, and lanes without a manifold, are padded
 //! with inert data and masked out of the velocity updates. Every branch of the scalar solve is kept
@@ -37,6 +39,7 @@
 //! (fixed bodies are read, never written).
 
 use super::solver::{solve_pair, warm_start_pair, Constraint, Pass, SolverBody, Sweep};
+use crate::integrate::lanes::{SolveLanes, V3};
 use crate::math::DVec3;
 use std::ops::Range;
 use wide::f64x4;
@@ -48,52 +51,50 @@ pub const COLOURS: usize = 24;
 /// A lane without a manifold, or a point slot a manifold does not fill.
 const NONE: usize = usize::MAX;
 
-/// A 3-vector of four lanes (`integrate::lanes::V3`, whose operations follow `DVec3`'s operand for
-/// operand), with what the solve adds: gathering from four constraints or bodies, and a select.
-type V3 = crate::integrate::lanes::V3<f64x4>;
-
-impl V3 {
+// A 3-vector of four lanes is `integrate::lanes::V3`, whose operations follow `DVec3`'s operand for
+// operand; the solve adds gathering from four constraints or bodies, and a select.
+impl<L: SolveLanes> V3<L> {
     #[inline(always)]
     fn gather(f: impl Fn(usize) -> DVec3) -> Self {
         let v = [f(0), f(1), f(2), f(3)];
         Self {
-            x: f64x4::new([v[0].x, v[1].x, v[2].x, v[3].x]),
-            y: f64x4::new([v[0].y, v[1].y, v[2].y, v[3].y]),
-            z: f64x4::new([v[0].z, v[1].z, v[2].z, v[3].z]),
+            x: L::new([v[0].x, v[1].x, v[2].x, v[3].x]),
+            y: L::new([v[0].y, v[1].y, v[2].y, v[3].y]),
+            z: L::new([v[0].z, v[1].z, v[2].z, v[3].z]),
         }
     }
 
     #[inline(always)]
-    fn select(mask: f64x4, t: Self, f: Self) -> Self {
+    fn select(mask: L, t: Self, f: Self) -> Self {
         Self { x: mask.select(t.x, f.x), y: mask.select(t.y, f.y), z: mask.select(t.z, f.z) }
     }
 }
 
 /// `DMat3 * DVec3` of four lanes, columns `c`: `(c0 x + c1 y) + c2 z`.
 #[inline(always)]
-fn mat_vec(c: &[V3; 3], v: V3) -> V3 {
+fn mat_vec<L: SolveLanes>(c: &[V3<L>; 3], v: V3<L>) -> V3<L> {
     c[0].scale(v.x).add(c[1].scale(v.y)).add(c[2].scale(v.z))
 }
 
 /// The part of [`SolverBody`] the solve reads, for the bodies on one side of four manifolds.
 #[derive(Clone, Copy)]
-struct Motion4 {
-    inv_mass: f64x4,
-    v: V3,
-    w: V3,
-    dx: V3,
+struct Motion4<L> {
+    inv_mass: L,
+    v: V3<L>,
+    w: V3<L>,
+    dx: V3<L>,
     /// `ΔR` by columns.
-    drot: [V3; 3],
+    drot: [V3<L>; 3],
 }
 
-impl Motion4 {
+impl<L: SolveLanes> Motion4<L> {
     /// Lane `k` from `bodies[index[k]]`, a fixed body at rest for [`NONE`].
     #[inline(always)]
     fn gather(bodies: &[SolverBody], index: &[usize; LANES]) -> Self {
         let body = |k: usize| if index[k] == NONE { &SolverBody::FIXED } else { &bodies[index[k]] };
         let b = [body(0), body(1), body(2), body(3)];
         Self {
-            inv_mass: f64x4::new([b[0].inv_mass, b[1].inv_mass, b[2].inv_mass, b[3].inv_mass]),
+            inv_mass: L::new([b[0].inv_mass, b[1].inv_mass, b[2].inv_mass, b[3].inv_mass]),
             v: V3::gather(|k| b[k].v),
             w: V3::gather(|k| b[k].w),
             dx: V3::gather(|k| b[k].dx),
@@ -108,8 +109,8 @@ impl Motion4 {
     /// Writes the velocities of lane `k` back to moving body `index[k]`, marking it reached by an
     /// impulse where `touched`; fixed bodies and empty lanes are left alone.
     #[inline(always)]
-    fn scatter(&self, bodies: &mut [SolverBody], index: &[usize; LANES], moving: &[bool; LANES], touched: f64x4) {
-        let touched = touched.to_bitmask();
+    fn scatter(&self, bodies: &mut [SolverBody], index: &[usize; LANES], moving: &[bool; LANES], touched: L) {
+        let touched = touched.bitmask();
         for k in 0..LANES {
             if moving[k] {
                 let body = &mut bodies[index[k]];
@@ -121,49 +122,58 @@ impl Motion4 {
     }
 }
 
-/// One point of each of four manifolds: [`Constraint`]'s data in lanes.
+/// One point of each of four manifolds: [`Constraint`]'s data in lanes. Stored as `Slot<f64x4>`;
+/// the AVX kernel reads the same memory as `Slot<Avx>` (`repr(C)`, lanes of the same layout).
 #[derive(Debug, Clone, Copy, Default)]
-struct Slot {
-    r_a: V3,
-    r_b: V3,
-    n: V3,
-    t1: V3,
-    t2: V3,
-    adjusted_gap: f64x4,
-    normal_mass: f64x4,
-    k_n: V3,
-    tangent_mass: [f64x4; 4],
-    tangent_k: [f64x4; 3],
-    ang_a: [V3; 3],
-    ang_b: [V3; 3],
-    mu: f64x4,
-    bias_rate: f64x4,
-    mass_scale: f64x4,
-    impulse_scale: f64x4,
+#[repr(C)]
+struct Slot<L> {
+    r_a: V3<L>,
+    r_b: V3<L>,
+    n: V3<L>,
+    t1: V3<L>,
+    t2: V3<L>,
+    adjusted_gap: L,
+    normal_mass: L,
+    k_n: V3<L>,
+    tangent_mass: [L; 4],
+    tangent_k: [L; 3],
+    ang_a: [V3<L>; 3],
+    ang_b: [V3<L>; 3],
+    mu: L,
+    bias_rate: L,
+    mass_scale: L,
+    impulse_scale: L,
     /// All bits set in the lanes of speculative contacts.
-    speculative: f64x4,
+    speculative: L,
     /// All bits set in the lanes that hold a point.
-    valid: f64x4,
-    lambda: [f64x4; 3],
+    valid: L,
+    lambda: [L; 3],
+    /// The separation at the bodies' current positions (m): measured when the slot is built and by
+    /// every relaxing sweep, which follows each move of the bodies; read by the biased sweeps (the
+    /// bodies do not move between a relaxing sweep and the next substep's biased one).
+    separation: L,
+    /// The accumulated impulses summed over the substeps so far (N·s).
+    lambda_sum: [L; 3],
 }
 
-impl Slot {
-    /// The lanes of `constraints[index[k]]`, inert data in the lanes of [`NONE`].
-    fn load(constraints: &[Constraint], index: &[usize; LANES]) -> Self {
-        let mut s = Slot::default();
+impl Slot<f64x4> {
+    /// The lanes of `constraints[index[k]]`, inert data in the lanes of [`NONE`], with the
+    /// separation at the positions of the bodies `ma`, `mb`; loaded in place into a slot fresh from
+    /// `Slot::default()` (a slot is 1.8 kB: no copy of it).
+    fn load(&mut self, constraints: &[Constraint], index: &[usize; LANES], ma: &Motion4<f64x4>, mb: &Motion4<f64x4>) {
         for (k, &i) in index.iter().enumerate() {
             if i != NONE {
-                s.set_lane(k, &constraints[i]);
+                self.set_lane(k, &constraints[i]);
             }
         }
-        s
+        self.separation = self.measure(ma, mb);
     }
 
     fn set_lane(&mut self, k: usize, c: &Constraint) {
         fn set(x: &mut f64x4, k: usize, value: f64) {
             x.as_mut_array()[k] = value;
         }
-        fn set3(v: &mut V3, k: usize, value: DVec3) {
+        fn set3(v: &mut V3<f64x4>, k: usize, value: DVec3) {
             set(&mut v.x, k, value.x);
             set(&mut v.y, k, value.y);
             set(&mut v.z, k, value.z);
@@ -193,16 +203,27 @@ impl Slot {
         set(&mut self.speculative, k, if c.speculative { all } else { 0.0 });
         set(&mut self.valid, k, all);
     }
+}
+
+impl<L: SolveLanes> Slot<L> {
+    /// The separation at the bodies' current positions, as [`Constraint`]'s
+    /// `gap − n·(r_b − r_a) + n·(p_b − p_a)` with `p = Δx + ΔR r` (m).
+    #[inline(always)]
+    fn measure(&self, ma: &Motion4<L>, mb: &Motion4<L>) -> L {
+        let p_a = ma.dx.add(mat_vec(&ma.drot, self.r_a));
+        let p_b = mb.dx.add(mat_vec(&mb.drot, self.r_b));
+        self.adjusted_gap + self.n.dot(p_b.sub(p_a))
+    }
 
     /// Whether the lanes' accumulated impulses are nonzero (`λ != [0; 3]`).
     #[inline(always)]
-    fn holds(&self) -> f64x4 {
-        self.lambda[0].simd_ne(f64x4::ZERO) | self.lambda[1].simd_ne(f64x4::ZERO) | self.lambda[2].simd_ne(f64x4::ZERO)
+    fn holds(&self) -> L {
+        self.lambda[0].ne(L::splat(0.0)) | self.lambda[1].ne(L::splat(0.0)) | self.lambda[2].ne(L::splat(0.0))
     }
 
     /// [`Constraint::apply`] in the lanes of `mask` (the others keep their velocities bit for bit).
     #[inline(always)]
-    fn apply(&self, ma: &mut Motion4, mb: &mut Motion4, dn: f64x4, d1: f64x4, d2: f64x4, mask: f64x4) {
+    fn apply(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, dn: L, d1: L, d2: L, mask: L) {
         let p = self.n.scale(dn).add(self.t1.scale(d1)).add(self.t2.scale(d2));
         let va = ma.v.sub(p.scale(ma.inv_mass));
         let wa = ma.w.sub(self.ang_a[0].scale(dn).add(self.ang_a[1].scale(d1)).add(self.ang_a[2].scale(d2)));
@@ -215,28 +236,34 @@ impl Slot {
     }
 
     /// [`Constraint::solve`] in four lanes; the lanes in which an impulse is held (or was let go).
+    /// `RELAX` is `sweep.pass == Pass::Relax`: the relaxing sweep measures the separation (the
+    /// bodies moved since the last one), the biased sweep reads it (see [`Slot::separation`]).
     #[inline(always)]
-    fn solve(&mut self, ma: &mut Motion4, mb: &mut Motion4, sweep: &Sweep) -> f64x4 {
-        let zero = f64x4::ZERO;
+    fn solve<const RELAX: bool>(&mut self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, sweep: &Sweep) -> L {
+        debug_assert_eq!(RELAX, sweep.pass == Pass::Relax);
+        let zero = L::splat(0.0);
         let u = mb.v.add(mb.w.cross(self.r_b)).sub(ma.v.add(ma.w.cross(self.r_a)));
         let un = u.dot(self.n);
         // a speculative contact approaching faster than the impact speed lets go of what it held
-        let let_go = self.speculative & (-un).simd_gt(f64x4::splat(sweep.impact_speed));
+        let let_go = self.speculative & un.neg().gt(L::splat(sweep.impact_speed));
         let held = self.holds();
 
         // normal: the separation at this substep, then the open / biased / relaxing row
-        let p_a = ma.dx.add(mat_vec(&ma.drot, self.r_a));
-        let p_b = mb.dx.add(mat_vec(&mb.drot, self.r_b));
-        let s = self.adjusted_gap + self.n.dot(p_b.sub(p_a));
-        let open = s.simd_gt(zero);
-        let (closed_bias, closed_mass, closed_impulse) = if sweep.pass == Pass::Solve {
-            let bias = (self.bias_rate * (s + f64x4::splat(sweep.slop)).min(zero)).max(f64x4::splat(-sweep.max_push));
+        let s = if RELAX {
+            self.separation = self.measure(ma, mb);
+            self.separation
+        } else {
+            self.separation
+        };
+        let open = s.gt(zero);
+        let (closed_bias, closed_mass, closed_impulse) = if !RELAX {
+            let bias = (self.bias_rate * (s + L::splat(sweep.slop)).min(zero)).max(L::splat(-sweep.max_push));
             (bias, self.mass_scale, self.impulse_scale)
         } else {
-            (zero, f64x4::ONE, zero)
+            (zero, L::splat(1.0), zero)
         };
-        let bias = open.select(s * f64x4::splat(sweep.inv_h), closed_bias);
-        let mass_scale = open.select(f64x4::ONE, closed_mass);
+        let bias = open.select(s * L::splat(sweep.inv_h), closed_bias);
+        let mass_scale = open.select(L::splat(1.0), closed_mass);
         let impulse_scale = open.select(zero, closed_impulse);
         let l0 = self.lambda[0];
         let new = (l0 - self.normal_mass * mass_scale * (un + bias) - impulse_scale * l0).max(zero);
@@ -249,25 +276,25 @@ impl Slot {
         let mut l1 = self.lambda[1] - (m[0] * ux + m[1] * uy);
         let mut l2 = self.lambda[2] - (m[2] * ux + m[3] * uy);
         let limit = self.mu * new;
-        let sliding = (l1 * l1 + l2 * l2).simd_gt(limit * limit);
+        let sliding = (l1 * l1 + l2 * l2).gt(limit * limit);
         if sliding.any() {
-            let project = sliding & limit.simd_gt(zero);
+            let project = sliding & limit.gt(zero);
             if project.any() {
                 let (p1, p2) = project_on_disc(self.tangent_k, l1, l2, limit, project);
                 l1 = project.select(p1, l1);
                 l2 = project.select(p2, l2);
             }
             let len = (l1 * l1 + l2 * l2).sqrt();
-            let scale = (len.simd_gt(zero) & len.is_finite()).select(limit / len, zero);
+            let scale = (len.gt(zero) & len.is_finite()).select(limit / len, zero);
             l1 = sliding.select(l1 * scale, l1);
             l2 = sliding.select(l2 * scale, l2);
         }
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
 
         // the let-go lanes apply −λ and hold nothing (when they held nothing, nothing is applied)
-        let dn = let_go.select(-l0, dn);
-        let d1 = let_go.select(-self.lambda[1], d1);
-        let d2 = let_go.select(-self.lambda[2], d2);
+        let dn = let_go.select(l0.neg(), dn);
+        let d1 = let_go.select(self.lambda[1].neg(), d1);
+        let d2 = let_go.select(self.lambda[2].neg(), d2);
         self.lambda[0] = let_go.select(zero, new);
         self.lambda[1] = let_go.select(zero, l1);
         self.lambda[2] = let_go.select(zero, l2);
@@ -278,7 +305,7 @@ impl Slot {
 
     /// The warm start of the lanes that hold an impulse; those lanes.
     #[inline(always)]
-    fn warm_start(&self, ma: &mut Motion4, mb: &mut Motion4) -> f64x4 {
+    fn warm_start(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>) -> L {
         let held = self.valid & self.holds();
         self.apply(ma, mb, self.lambda[0], self.lambda[1], self.lambda[2], held);
         held
@@ -288,11 +315,11 @@ impl Slot {
 /// [`project_on_disc`](super::solver::project_on_disc) in the lanes of `mask`: Newton on
 /// `1/|λ(ν)| = 1/limit` with `λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*`, each lane frozen at the iteration at
 /// which the scalar loop would break, so that each lane takes the scalar loop's steps.
-#[inline(never)]
-fn project_on_disc(k: [f64x4; 3], l1: f64x4, l2: f64x4, limit: f64x4, mask: f64x4) -> (f64x4, f64x4) {
+#[inline(always)]
+fn project_on_disc<L: SolveLanes>(k: [L; 3], l1: L, l2: L, limit: L, mask: L) -> (L, L) {
     let [k11, k12, k22] = k;
     let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
-    let zero = f64x4::ZERO;
+    let zero = L::splat(0.0);
     let mut nu = zero;
     let mut active = mask;
     for _ in 0..8 {
@@ -305,14 +332,83 @@ fn project_on_disc(k: [f64x4; 3], l1: f64x4, l2: f64x4, limit: f64x4, mask: f64x
         let norm = (x1 * x1 + x2 * x2).sqrt();
         let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
         let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
-        let phi = f64x4::ONE / norm - f64x4::ONE / limit;
-        let stop = slope.is_nan() | slope.simd_le(zero) | phi.abs().simd_lt(f64x4::splat(1e-12) / limit);
+        let phi = L::splat(1.0) / norm - L::splat(1.0) / limit;
+        let stop = slope.is_nan() | slope.le(zero) | phi.abs().lt(L::splat(1e-12) / limit);
         active = stop.select(zero, active);
         nu = active.select((nu - phi / slope).max(zero), nu);
     }
     let (a11, a22) = (k11 + nu, k22 + nu);
     let det = a11 * a22 - k12 * k12;
     ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det)
+}
+
+/// The warm start of `batches` in lanes `L`.
+#[inline(always)]
+fn warm_start_in<L: SolveLanes>(batches: &[Batch], slots: &[Slot<L>], bodies: &mut [SolverBody]) {
+    for batch in batches {
+        let (mut ma, mut mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
+        let mut any = L::splat(0.0);
+        for slot in &slots[batch.slots.0..batch.slots.1] {
+            any = any | slot.warm_start(&mut ma, &mut mb);
+        }
+        ma.scatter(bodies, &batch.a, &batch.moving_a, any);
+        mb.scatter(bodies, &batch.b, &batch.moving_b, any);
+    }
+}
+
+/// One sweep over `batches` in lanes `L`; `RELAX` the pass (a biased sweep gathers only the bodies'
+/// velocities: the unused loads of their motion are dropped when compiling).
+#[inline(always)]
+fn sweep_in<L: SolveLanes, const RELAX: bool>(
+    batches: &[Batch],
+    slots: &mut [Slot<L>],
+    bodies: &mut [SolverBody],
+    sweep: &Sweep,
+) {
+    for batch in batches {
+        let (mut ma, mut mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
+        let mut any = L::splat(0.0);
+        for slot in &mut slots[batch.slots.0..batch.slots.1] {
+            any = any | slot.solve::<RELAX>(&mut ma, &mut mb, sweep);
+        }
+        ma.scatter(bodies, &batch.a, &batch.moving_a, any);
+        mb.scatter(bodies, &batch.b, &batch.moving_b, any);
+    }
+}
+
+/// The sweeps compiled for AVX2, in [`Avx`] lanes, on the slots stored as `wide::f64x4`.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod avx {
+    use super::{sweep_in, warm_start_in, Batch, Slot, SolverBody, Sweep};
+    use crate::integrate::lanes::Avx;
+    use wide::f64x4;
+
+    // the same layout: four `f64` in lane order, 32 bytes aligned to 32
+    const _: () = assert!(size_of::<f64x4>() == size_of::<Avx>() && align_of::<f64x4>() == align_of::<Avx>());
+    const _: () = assert!(size_of::<Slot<f64x4>>() == size_of::<Slot<Avx>>());
+
+    /// The slots as `Slot<Avx>`: `Slot` is `repr(C)` over its lanes, and `f64x4` and `Avx` are both
+    /// four `f64` in lane order (32 bytes, aligned to 32; asserted above), any bits valid in both.
+    pub(super) fn slots(slots: &mut [Slot<f64x4>]) -> &mut [Slot<Avx>] {
+        // SAFETY: same size, alignment and field layout (above); the borrow is handed on
+        unsafe { std::slice::from_raw_parts_mut(slots.as_mut_ptr().cast::<Slot<Avx>>(), slots.len()) }
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn warm_start(batches: &[Batch], slots: &[Slot<Avx>], bodies: &mut [SolverBody]) {
+        warm_start_in::<Avx>(batches, slots, bodies);
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn sweep<const RELAX: bool>(
+        batches: &[Batch],
+        slots: &mut [Slot<Avx>],
+        bodies: &mut [SolverBody],
+        sweep: &Sweep,
+    ) {
+        sweep_in::<Avx, RELAX>(batches, slots, bodies, sweep);
+    }
 }
 
 /// Four manifolds of one colour: their bodies and their point slots.
@@ -337,29 +433,42 @@ pub struct LaneSolver {
     last: Vec<usize>,
     /// The colour of each manifold, `COLOURS` for the overflow.
     colour_of: Vec<usize>,
-    /// The manifolds of each colour in pair order, concatenated; `colour_start[c]..colour_start[c + 1]`.
+    /// The manifolds of each colour by number of points then pair order, concatenated;
+    /// `colour_start[c]..colour_start[c + 1]`.
     order: Vec<usize>,
     colour_start: Vec<usize>,
     batches: Vec<Batch>,
     /// The batches of each colour: `batch_start[c]..batch_start[c + 1]`.
     batch_start: Vec<usize>,
-    slots: Vec<Slot>,
+    slots: Vec<Slot<f64x4>>,
     /// The constraint of each lane of each slot ([`NONE`] for padding).
     slot_index: Vec<[usize; LANES]>,
     /// Manifolds (ranges of the constraints) solved one at a time after the colours.
     overflow: Vec<(usize, usize)>,
+    /// Whether the sweeps run in AVX registers (the CPU has AVX2, found at [`build`](Self::build)).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    avx: bool,
+    /// Keeps the portable `wide::f64x4` lanes even on a CPU with AVX2 (the tests run both).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    portable: bool,
 }
 
 impl LaneSolver {
     /// Colours the manifolds `groups` (ranges of `constraints`, each of one pair of bodies, in pair
-    /// order) and loads their constraints into batches; `moving(i)` whether body `i` moves.
+    /// order) and loads their constraints into batches, measuring their separations at the
+    /// positions of `bodies`; `moving(i)` whether body `i` moves.
     pub fn build(
         &mut self,
         groups: &[(usize, usize)],
         constraints: &[Constraint],
-        body_count: usize,
+        bodies: &[SolverBody],
         moving: impl Fn(usize) -> bool,
     ) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.avx = !self.portable && std::arch::is_x86_feature_detected!("avx2");
+        }
+        let body_count = bodies.len();
         let words = body_count.div_ceil(64);
         self.colour_bodies.clear();
         self.colour_bodies.resize(COLOURS * words, 0);
@@ -420,6 +529,13 @@ impl LaneSolver {
         self.overflow.clear();
         self.overflow.extend(self.order[self.colour_start[COLOURS]..].iter().map(|&g| groups[g]));
 
+        // within a colour the manifolds share no moving body, so their order there changes no bit:
+        // by number of points (then pair order), so that a batch's four have as many points as
+        // possible alike and few slots are padding (the pyramid's 4- and 6-point manifolds)
+        for c in 0..COLOURS {
+            self.order[self.colour_start[c]..self.colour_start[c + 1]]
+                .sort_unstable_by_key(|&g| (groups[g].1 - groups[g].0, g));
+        }
         // batches of four manifolds per colour, slot j holding the j-th point of each
         self.batches.clear();
         self.batch_start.clear();
@@ -444,6 +560,7 @@ impl LaneSolver {
                     (batch.moving_a[k], batch.moving_b[k]) = (moving(a), moving(b));
                     points = points.max(e - s);
                 }
+                let (ma, mb) = (Motion4::gather(bodies, &batch.a), Motion4::gather(bodies, &batch.b));
                 for j in 0..points {
                     let mut index = [NONE; LANES];
                     for (k, &g) in chunk.iter().enumerate() {
@@ -452,7 +569,8 @@ impl LaneSolver {
                             index[k] = s + j;
                         }
                     }
-                    self.slots.push(Slot::load(constraints, &index));
+                    self.slots.push(Slot::default());
+                    self.slots.last_mut().expect("pushed").load(constraints, &index, &ma, &mb);
                     self.slot_index.push(index);
                 }
                 batch.slots.1 = self.slots.len();
@@ -500,28 +618,67 @@ impl LaneSolver {
     }
 
     /// The warm start of a range of batches of one colour.
-    pub fn warm_start_batches(&self, batches: Range<usize>, bodies: &mut [SolverBody]) {
-        for batch in &self.batches[batches] {
-            let (mut ma, mut mb) = (Motion4::gather(bodies, &batch.a), Motion4::gather(bodies, &batch.b));
-            let mut any = f64x4::ZERO;
-            for slot in &self.slots[batch.slots.0..batch.slots.1] {
-                any |= slot.warm_start(&mut ma, &mut mb);
-            }
-            ma.scatter(bodies, &batch.a, &batch.moving_a, any);
-            mb.scatter(bodies, &batch.b, &batch.moving_b, any);
+    #[allow(unsafe_code)]
+    pub fn warm_start_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody]) {
+        let batches = &self.batches[batches];
+        #[cfg(target_arch = "x86_64")]
+        if self.avx {
+            // SAFETY: `build` found AVX2 on this CPU
+            return unsafe { avx::warm_start(batches, avx::slots(&mut self.slots), bodies) };
+        }
+        warm_start_in::<f64x4>(batches, &self.slots, bodies);
+    }
+
+    /// One sweep over a range of batches of one colour (see [`Constraint::solve`]). A relaxing sweep
+    /// also measures the separations that the next biased sweep uses: the bodies must not move
+    /// between a relaxing sweep and the next biased one, nor between [`build`](Self::build) and
+    /// the first biased sweep.
+    pub fn solve_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
+        match sweep.pass {
+            Pass::Solve => self.sweep_batches::<false>(batches, bodies, sweep),
+            Pass::Relax => self.sweep_batches::<true>(batches, bodies, sweep),
         }
     }
 
-    /// One sweep over a range of batches of one colour (see [`Constraint::solve`]).
-    pub fn solve_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
-        for batch in &self.batches[batches] {
-            let (mut ma, mut mb) = (Motion4::gather(bodies, &batch.a), Motion4::gather(bodies, &batch.b));
-            let mut any = f64x4::ZERO;
-            for slot in &mut self.slots[batch.slots.0..batch.slots.1] {
-                any |= slot.solve(&mut ma, &mut mb, sweep);
+    /// [`solve_batches`](Self::solve_batches) with the pass known when compiling.
+    #[allow(unsafe_code)]
+    fn sweep_batches<const RELAX: bool>(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
+        let batches = &self.batches[batches];
+        #[cfg(target_arch = "x86_64")]
+        if self.avx {
+            // SAFETY: `build` found AVX2 on this CPU
+            return unsafe { avx::sweep::<RELAX>(batches, avx::slots(&mut self.slots), bodies, sweep) };
+        }
+        sweep_in::<f64x4, RELAX>(batches, &mut self.slots, bodies, sweep);
+    }
+
+    /// Adds each constraint's accumulated impulses to its sum over the substeps: in the lanes for
+    /// the colours' constraints, in `sums` (aligned with `constraints`) for the overflow's.
+    pub fn accumulate(&mut self, constraints: &[Constraint], sums: &mut [[f64; 3]]) {
+        for slot in &mut self.slots {
+            for j in 0..3 {
+                slot.lambda_sum[j] += slot.lambda[j];
             }
-            ma.scatter(bodies, &batch.a, &batch.moving_a, any);
-            mb.scatter(bodies, &batch.b, &batch.moving_b, any);
+        }
+        for &(s, e) in &self.overflow {
+            for (sum, k) in sums[s..e].iter_mut().zip(&constraints[s..e]) {
+                for (x, l) in sum.iter_mut().zip(k.lambda) {
+                    *x += l;
+                }
+            }
+        }
+    }
+
+    /// Copies the lanes' sums of the accumulated impulses to `sums` (aligned with the constraints);
+    /// the overflow's are there already.
+    pub fn store_sums(&self, sums: &mut [[f64; 3]]) {
+        for (slot, index) in self.slots.iter().zip(&self.slot_index) {
+            let l = slot.lambda_sum.map(|x| x.to_array());
+            for (k, &i) in index.iter().enumerate() {
+                if i != NONE {
+                    sums[i] = [l[0][k], l[1][k], l[2][k]];
+                }
+            }
         }
     }
 
@@ -751,6 +908,17 @@ mod tests {
     /// overflow (a hub body in more pairs than there are colours).
     #[test]
     fn lanes_match_the_scalar_solve_bit_for_bit() {
+        lanes_match(true);
+    }
+
+    /// The same with the kernel this CPU dispatches to (AVX2 where present: see the printed line).
+    #[test]
+    fn dispatched_lanes_match_the_scalar_solve_bit_for_bit() {
+        lanes_match(false);
+    }
+
+    /// The check of the two tests above: `portable` keeps `wide::f64x4`, else the dispatched kernel.
+    fn lanes_match(portable: bool) {
         let mut seen = Branches::default();
         let mut overflowed = 0;
         let mut zeros = 0;
@@ -759,8 +927,11 @@ mod tests {
             let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0xd1b5_4a32_d192_ed03));
             let count = 8 + (seed as usize % 4) * 8;
             let (bodies, moving, constraints, groups) = scene(&mut rng, count, 1 + seed as usize % 3, 2 * count);
-            let mut lanes = LaneSolver::default();
-            lanes.build(&groups, &constraints, bodies.len(), |i| moving[i]);
+            let mut lanes = LaneSolver { portable, ..LaneSolver::default() };
+            lanes.build(&groups, &constraints, &bodies, |i| moving[i]);
+            if seed == 1 {
+                eprintln!("kernel: {}", if lanes.avx { "AVX2" } else { "portable f64x4" });
+            }
             overflowed += lanes.colours_used().1;
             let order = lanes.order().to_vec();
             let (mut sb, mut sc) = (bodies.clone(), constraints.clone());
@@ -823,18 +994,21 @@ mod tests {
     }
 
     /// The colouring: no two manifolds of a colour share a moving body, every manifold is once in the
-    /// order, pair order within each colour, and the overflow only when the colours ran out; with
+    /// order, by number of points then pair order within each colour, the overflow in pair order and
+    /// only when the colours ran out; with
     /// chains shorter than the colours, each body meets its manifolds in pair order.
     #[test]
     fn colours_share_no_moving_body() {
         let mut rng = Rng(7);
         let (bodies, moving, constraints, groups) = scene(&mut rng, 40, 2, 200);
         let mut lanes = LaneSolver::default();
-        lanes.build(&groups, &constraints, bodies.len(), |i| moving[i]);
+        lanes.build(&groups, &constraints, &bodies, |i| moving[i]);
         let mut seen = vec![false; groups.len()];
         for c in 0..=COLOURS {
             let members = &lanes.order[lanes.colour_start[c]..lanes.colour_start[c + 1]];
-            assert!(members.windows(2).all(|w| w[0] < w[1]), "colour {c} not in pair order");
+            // by number of points then pair order in a colour; the overflow in pair order
+            let points = |g: usize| if c < COLOURS { groups[g].1 - groups[g].0 } else { 0 };
+            assert!(members.windows(2).all(|w| (points(w[0]), w[0]) < (points(w[1]), w[1])), "colour {c} out of order");
             let mut used = vec![false; bodies.len()];
             for &g in members {
                 assert!(!seen[g]);
@@ -871,7 +1045,7 @@ mod tests {
             }
             groups.push((start, constraints.len()));
         }
-        lanes.build(&groups, &constraints, bodies.len(), |i| i != 0);
+        lanes.build(&groups, &constraints, &bodies, |i| i != 0);
         assert_eq!(lanes.colours_used().1, 0);
         for body in 1..21 {
             let mine: Vec<usize> =

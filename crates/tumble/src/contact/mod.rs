@@ -463,6 +463,7 @@ impl ContactStage {
         self.predicted.extend(self.bodies.iter().map(|sb| (sb.v, sb.w)));
         self.constraints.clear();
         self.constrained.clear();
+        let mut warm = WarmStarts::new(&self.previous);
         for (ci, c) in self.contacts.iter().enumerate() {
             if self.frozen[ci] {
                 continue;
@@ -481,7 +482,7 @@ impl ContactStage {
                 mu,
                 softness,
             );
-            if let Some(l) = previous_impulse(&self.previous, c) {
+            if let Some(l) = warm.find(c) {
                 k.lambda = l;
             }
             self.constraints.push(k);
@@ -508,7 +509,7 @@ impl ContactStage {
             }
         }
         // the pairs in colours, four to a batch (`batch`): the pairs of a colour share no moving body
-        self.lanes.build(&self.groups, &self.constraints, bodies.len(), |i| !bodies[i].fixed);
+        self.lanes.build(&self.groups, &self.constraints, &self.bodies, |i| !bodies[i].fixed);
         let lanes = &mut self.lanes;
         let constraints = &mut self.constraints;
         self.lambda_sums.clear();
@@ -550,13 +551,10 @@ impl ContactStage {
             }
             // the impulse a constraint applied in this substep is its accumulated λ (the warm start
             // applied the λ it started with, the sweeps the changes)
-            lanes.store_lambdas(constraints);
-            for (sum, k) in self.lambda_sums.iter_mut().zip(constraints.iter()) {
-                for (s, l) in sum.iter_mut().zip(k.lambda) {
-                    *s += l;
-                }
-            }
+            lanes.accumulate(constraints, &mut self.lambda_sums);
         }
+        lanes.store_lambdas(constraints);
+        lanes.store_sums(&mut self.lambda_sums);
         for ((&ci, sum), k) in self.constrained.iter().zip(&self.lambda_sums).zip(constraints.iter()) {
             self.impulses[ci] += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
             self.lambdas[ci] = k.lambda;
@@ -620,8 +618,8 @@ pub(super) const WARM_MATCH_DISTANCE: f64 = 0.02;
 /// same pair with the same features (the normal impulse, and the friction impulse taken as it is in
 /// this step's tangents), or else, when parry renumbered the features (a clipped manifold changes
 /// its points), those of the nearest point of the same pair within [`WARM_MATCH_DISTANCE`].
-fn previous_impulse(previous: &[Previous], c: &Contact) -> Option<[f64; 3]> {
-    let start = previous.partition_point(|p| (p.a, p.b) < (c.a, c.b));
+/// `previous` is sorted by pair and `start` is the first entry not of an earlier pair than `c`'s.
+fn previous_impulse(previous: &[Previous], start: usize, c: &Contact) -> Option<[f64; 3]> {
     let pair = previous[start..].iter().take_while(|p| (p.a, p.b) == (c.a, c.b));
     let mut best: Option<(f64, [f64; 3])> = None;
     for p in pair {
@@ -634,6 +632,35 @@ fn previous_impulse(previous: &[Previous], c: &Contact) -> Option<[f64; 3]> {
         }
     }
     best.map(|b| b.1)
+}
+
+/// The warm starts of a step's contacts, looked up in the previous step's (sorted by pair): the
+/// contacts come in pair order too, so a cursor that only moves forward finds each pair's first
+/// previous point in one pass over both lists (a contact out of order is looked up by bisection).
+struct WarmStarts<'a> {
+    previous: &'a [Previous],
+    /// The first previous point of a pair not before the last contact's.
+    cursor: usize,
+}
+
+impl<'a> WarmStarts<'a> {
+    fn new(previous: &'a [Previous]) -> Self {
+        Self { previous, cursor: 0 }
+    }
+
+    /// See [`previous_impulse`].
+    fn find(&mut self, c: &Contact) -> Option<[f64; 3]> {
+        let key = (c.a, c.b);
+        let before = |p: &Previous| (p.a, p.b) < key;
+        if self.cursor > 0 && !before(&self.previous[self.cursor - 1]) {
+            // out of pair order: start again from the first previous point of the pair
+            self.cursor = self.previous.partition_point(before);
+        }
+        while self.cursor < self.previous.len() && before(&self.previous[self.cursor]) {
+            self.cursor += 1;
+        }
+        previous_impulse(self.previous, self.cursor, c)
+    }
 }
 
 /// The pair's friction and restitution: `μ = √(μ_a μ_b)`, `e = max(e_a, e_b)`, defaults from `settings`.

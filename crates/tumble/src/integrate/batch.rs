@@ -1,8 +1,9 @@
-//! Semi-implicit Euler on four bodies at once: the same equations as
+//! Semi-implicit Euler on four or eight bodies at once: the same equations as
 //! [`semi_implicit_euler_step`](super::euler::semi_implicit_euler_step), with each scalar of a body
-//! replaced by four lanes holding that scalar for four bodies (structure of arrays in registers):
-//! one AVX register where the CPU has AVX2 (detected at run time, the kernel compiled with
-//! `#[target_feature(enable = "avx2")]`), `wide::f64x4` otherwise ([`super::lanes`]).
+//! replaced by lanes holding that scalar for several bodies (structure of arrays in registers): eight
+//! lanes in one AVX-512 register where the CPU has AVX-512F, four in one AVX register where it has
+//! AVX2 (detected at run time, the kernel compiled with `#[target_feature(enable = "avx512f")]` or
+//! `"avx2"`), `wide::f64x4` otherwise ([`super::lanes`]). One generic kernel for all three.
 //!
 //! Bit-identical to the scalar step: every lane performs the scalar step's IEEE operations in the
 //! same order (`+ − ×` only, no fused multiply-add, no reassociation: Rust never contracts), and the
@@ -16,11 +17,12 @@
 //! Only bodies whose loads do not depend on their orientation take this path ([`batchable`]);
 //! the others (body-frame forces, world-frame torques, point forces) keep the scalar step.
 //!
-//! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group of four is gathered
-//! into lanes, stepped and scattered back, so every reader sees the stepped state and a user may
-//! change any body between steps. Gather and scatter go by rows of four adjacent fields (`m, I`;
-//! `1/m, I⁻¹`; `f_load, c_lin`; `τ_load, c_ang`; the state's 13 numbers in three rows and one),
-//! each row a load, four rows of four bodies turned into four lanes by one 4×4 transpose.
+//! The bodies stay in `World::bodies` (the users' `Vec<RigidBody>`): each group is gathered into
+//! lanes, stepped and scattered back, so every reader sees the stepped state and a user may change
+//! any body between steps. Gather and scatter go by rows of four adjacent fields (`m, I`; `1/m, I⁻¹`;
+//! `τ_load, c_lin`; `f_load`; `c_ang`; the state's 13 numbers and the gravity scale in four rows), each
+//! row one load where the layout has the fields adjacent (`Row`), the rows of the group's bodies
+//! turned into lanes by 4×4 transposes (two at once in AVX-512 registers).
 //!
 //! No copy of the constant parameters is kept between steps: `World::bodies` is a public field
 //! that any reader may change, so a copy would have to be checked against the bodies each step,
@@ -28,15 +30,18 @@
 
 use super::euler::finish_implicit_gyroscopic;
 #[cfg(target_arch = "x86_64")]
-use super::lanes::Avx;
-use super::lanes::{Lanes, V3};
+use super::lanes::{Avx, Avx512};
+use super::lanes::{BatchLanes, V3};
 use crate::body::RigidBody;
 use crate::math::{quat_exp, DQuat, DVec3};
 use crate::world::MAX_STATE_MAGNITUDE;
 use wide::f64x4;
 
-/// Bodies per batch.
+/// Bodies per batch of [`semi_implicit_euler_x4`].
 pub const LANES: usize = 4;
+
+/// Bodies per batch at most: [`semi_implicit_euler_batch`] takes up to [`batch_width`] of them.
+pub const MAX_LANES: usize = 8;
 
 /// Whether a body can take the batched step: it moves, and its loads do not depend on its
 /// orientation (gravity, world-frame forces, body-frame torques and damping only).
@@ -45,10 +50,148 @@ pub fn batchable(body: &RigidBody) -> bool {
     !body.fixed && !body.loads.needs_rotation()
 }
 
-/// One scalar of four bodies, `f(bodies[k])` in lane `k`.
+/// Four `f64` fields of a body that the step reads together, by their byte offsets in `RigidBody`.
+/// When the compiler has laid them out adjacent and in order (checked at compile time), the row is
+/// read with one 32-byte load; otherwise field by field (same values either way).
+#[derive(Clone, Copy)]
+struct Row([usize; 4]);
+
+impl Row {
+    /// Whether the four fields are adjacent `f64`s in order.
+    const fn adjacent(self) -> bool {
+        let o = self.0;
+        o[1] == o[0] + 8 && o[2] == o[0] + 16 && o[3] == o[0] + 24
+    }
+
+    /// The four fields of `body`, `fields(body)` read as one load when they are adjacent.
+    #[inline(always)]
+    fn read(self, body: &RigidBody, fields: fn(&RigidBody) -> [f64; 4]) -> [f64; 4] {
+        if self.adjacent() {
+            // SAFETY: the 32 bytes at this offset are four `f64` fields of `body` (checked above; the
+            // offsets are `offset_of!` of those fields), read through a pointer to the whole body
+            #[allow(unsafe_code)]
+            unsafe {
+                (body as *const RigidBody).cast::<u8>().add(self.0[0]).cast::<[f64; 4]>().read_unaligned()
+            }
+        } else {
+            fields(body)
+        }
+    }
+}
+
+macro_rules! row {
+    ($($field:tt).+ , $($f1:tt).+ , $($f2:tt).+ , $($f3:tt).+) => {
+        Row([
+            core::mem::offset_of!(RigidBody, $($field).+),
+            core::mem::offset_of!(RigidBody, $($f1).+),
+            core::mem::offset_of!(RigidBody, $($f2).+),
+            core::mem::offset_of!(RigidBody, $($f3).+),
+        ])
+    };
+}
+
+/// `m, I` (the row's fields must match the closures that read them field by field in [`step`]).
+const ROW_MASS: Row = row!(mass.mass, mass.inertia_body.x, mass.inertia_body.y, mass.inertia_body.z);
+/// `1/m, I⁻¹`.
+const ROW_INV_MASS: Row =
+    row!(mass.inv_mass, mass.inv_inertia_body.x, mass.inv_inertia_body.y, mass.inv_inertia_body.z);
+/// `τ_body, c_lin`.
+const ROW_TORQUE: Row = row!(loads.torque_body.x, loads.torque_body.y, loads.torque_body.z, loads.linear_damping);
+/// `c_ang` (and `τ_y, τ_z, c_lin` again, not used).
+const ROW_DAMPING: Row = row!(loads.torque_body.y, loads.torque_body.z, loads.linear_damping, loads.angular_damping);
+/// `f_world` and the first component of `f_body` (zero, not used).
+const ROW_FORCE: Row = row!(loads.force_world.x, loads.force_world.y, loads.force_world.z, loads.force_body.x);
+/// The state's 13 numbers and the gravity scale: `x, q_x`; `q_y, q_z, q_w, v_x`; `v_y, v_z, ω_x, ω_y`;
+/// `ω, s` (`ω_x, ω_y` again, not used).
+const ROW_STATE: [Row; 4] = [
+    row!(state.position.x, state.position.y, state.position.z, state.orientation.x),
+    row!(state.orientation.y, state.orientation.z, state.orientation.w, state.velocity.x),
+    row!(state.velocity.y, state.velocity.z, state.omega_body.x, state.omega_body.y),
+    row!(state.omega_body.x, state.omega_body.y, state.omega_body.z, gravity_scale),
+];
+
+/// Lane `k` of a 3-vector of lanes.
 #[inline(always)]
-fn gather<L: Lanes>(bodies: &[&RigidBody; LANES], f: impl Fn(&RigidBody) -> f64) -> L {
-    L::new([f(bodies[0]), f(bodies[1]), f(bodies[2]), f(bodies[3])])
+fn lane3<L: BatchLanes>(v: V3<L>, k: usize) -> DVec3 {
+    DVec3::new(v.x.lane(k), v.y.lane(k), v.z.lane(k))
+}
+
+/// Lane `k` of a 3-vector of lanes set to `value`.
+#[inline(always)]
+fn set_lane3<L: BatchLanes>(v: &mut V3<L>, k: usize, value: DVec3) {
+    v.x.set_lane(k, value.x);
+    v.y.set_lane(k, value.y);
+    v.z.set_lane(k, value.z);
+}
+
+/// A row of the group's bodies, transposed: lane `k` of result `j` is `fields(group[k])[j]`.
+#[inline(always)]
+fn rows<L: BatchLanes>(group: &[&RigidBody; MAX_LANES], row: Row, fields: fn(&RigidBody) -> [f64; 4]) -> [L; 4] {
+    L::from_rows(|k| row.read(group[k], fields))
+}
+
+/// Whether the CPU has AVX-512F (eight lanes), detected once (the standard library caches it).
+#[inline]
+fn has_avx512() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx512f");
+    #[allow(unreachable_code)]
+    false
+}
+
+/// Bodies per batch of [`semi_implicit_euler_batch`] on this CPU: 8 with AVX-512F, else 4.
+#[inline]
+pub fn batch_width() -> usize {
+    if has_avx512() {
+        MAX_LANES
+    } else {
+        LANES
+    }
+}
+
+/// Advances the bodies `bodies[lanes[k]]`, `k < count`, `count ≤` [`batch_width`], by one
+/// semi-implicit Euler step of `h` seconds under the world's gravity `gravity_world` (m/s², world
+/// frame): eight lanes in AVX-512 registers where the CPU has AVX-512F, else as
+/// [`semi_implicit_euler_x4`] (`lanes[4..]` unused). Entries `count..` of `lanes` are not read.
+/// Every body must be [`batchable`] and the lanes distinct.
+///
+/// Returns the lanes (bit `k`) whose new state fails the quick sanity test of the world's
+/// divergence check, as [`semi_implicit_euler_x4`]. The results are the same bits whatever the lanes.
+pub fn semi_implicit_euler_batch(
+    bodies: &mut [RigidBody],
+    lanes: &[usize; MAX_LANES],
+    count: usize,
+    gravity_world: DVec3,
+    h: f64,
+) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx512() {
+        // SAFETY: the CPU has AVX-512F
+        #[allow(unsafe_code)]
+        return unsafe { x8_avx512(bodies, lanes, count, gravity_world, h) };
+    }
+    assert!(count <= LANES, "{count} bodies in a batch of {LANES}");
+    let four = core::array::from_fn(|k| lanes[k.min(count - 1)]);
+    semi_implicit_euler_x4(bodies, &four, count, gravity_world, h)
+}
+
+/// [`semi_implicit_euler_batch`] in eight AVX-512 lanes, or `None` where the CPU lacks AVX-512F: the
+/// eight-lane kernel driven directly, for tests and benchmarks.
+pub fn semi_implicit_euler_x8_avx512(
+    bodies: &mut [RigidBody],
+    lanes: &[usize; MAX_LANES],
+    count: usize,
+    gravity_world: DVec3,
+    h: f64,
+) -> Option<u32> {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx512() {
+        // SAFETY: the CPU has AVX-512F
+        #[allow(unsafe_code)]
+        return Some(unsafe { x8_avx512(bodies, lanes, count, gravity_world, h) });
+    }
+    let _ = (bodies, lanes, count, gravity_world, h);
+    None
 }
 
 /// Advances the bodies `bodies[lanes[k]]`, `k < count`, by one semi-implicit Euler step of `h`
@@ -86,60 +229,81 @@ pub fn semi_implicit_euler_x4_portable(
     gravity_world: DVec3,
     h: f64,
 ) -> u32 {
-    x4::<f64x4>(bodies, lanes, count, gravity_world, h)
+    step::<f64x4>(bodies, lanes, count, gravity_world, h)
 }
 
 /// [`semi_implicit_euler_x4`] compiled for AVX2, in [`Avx`] lanes.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn x4_avx2(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
-    x4::<Avx>(bodies, lanes, count, gravity_world, h)
+    step::<Avx>(bodies, lanes, count, gravity_world, h)
 }
 
-/// The step in lanes `L`.
-#[inline(always)]
-fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
-    debug_assert!((1..=LANES).contains(&count));
-    let lanes = &core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
-    let hv = L::splat(h);
-    let group: &[&RigidBody; LANES] = &lanes.map(|index| &bodies[index]);
+/// [`semi_implicit_euler_batch`] compiled for AVX-512F, in [`Avx512`] lanes (no FMA: `avx512f`
+/// does not enable it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn x8_avx512(bodies: &mut [RigidBody], lanes: &[usize; MAX_LANES], count: usize, gravity_world: DVec3, h: f64) -> u32 {
+    step::<Avx512>(bodies, lanes, count, gravity_world, h)
+}
 
-    // parameters (constants of each body) and state
-    // four rows of each body, transposed into lanes (rows of adjacent fields: a load each)
-    let [mass, ix, iy, iz] = L::transpose(group.map(|b| {
+/// The step in lanes `L`, on the bodies `lanes[..count]` (`lanes.len() >= L::N`).
+#[inline(always)]
+fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravity_world: DVec3, h: f64) -> u32 {
+    debug_assert!((1..=L::N).contains(&count) && lanes.len() >= L::N);
+    let all = (1u32 << L::N) - 1;
+    let index: [usize; MAX_LANES] = core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
+    let hv = L::splat(h);
+    let group: [&RigidBody; MAX_LANES] = core::array::from_fn(|k| &bodies[index[k]]);
+
+    // parameters (constants of each body) and state: rows of four adjacent fields of each body
+    // (one load each where the layout has them adjacent, see `Row`), transposed into lanes
+    let [mass, ix, iy, iz] = rows::<L>(&group, ROW_MASS, |b| {
         let i = b.mass.inertia_body;
-        L::new([b.mass.mass, i.x, i.y, i.z])
-    }));
-    let [inv_mass, jx, jy, jz] = L::transpose(group.map(|b| {
+        [b.mass.mass, i.x, i.y, i.z]
+    });
+    let [inv_mass, jx, jy, jz] = rows::<L>(&group, ROW_INV_MASS, |b| {
         let j = b.mass.inv_inertia_body;
-        L::new([b.mass.inv_mass, j.x, j.y, j.z])
-    }));
-    let [fx, fy, fz, linear_damping] = L::transpose(group.map(|b| {
-        let f = b.loads.force_world;
-        L::new([f.x, f.y, f.z, b.loads.linear_damping])
-    }));
-    let [tx, ty, tz, angular_damping] = L::transpose(group.map(|b| {
+        [b.mass.inv_mass, j.x, j.y, j.z]
+    });
+    let [tx, ty, tz, linear_damping] = rows::<L>(&group, ROW_TORQUE, |b| {
         let t = b.loads.torque_body;
-        L::new([t.x, t.y, t.z, b.loads.angular_damping])
-    }));
+        [t.x, t.y, t.z, b.loads.linear_damping]
+    });
+    // (the body-frame force is zero: the body is batchable)
+    let [fx, fy, fz, _] = rows::<L>(&group, ROW_FORCE, |b| {
+        let f = b.loads.force_world;
+        [f.x, f.y, f.z, b.loads.force_body.x]
+    });
+    let [_, _, _, angular_damping] = rows::<L>(&group, ROW_DAMPING, |b| {
+        let l = &b.loads;
+        [l.torque_body.y, l.torque_body.z, l.linear_damping, l.angular_damping]
+    });
     let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
     let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
-    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic` (scalar: `f64::max` and `min` on NaNs)
-    let spread = gather::<L>(group, |b| {
-        let (i, inv) = (b.mass.inertia_body, b.mass.inv_inertia_body);
-        (i.max_element() - i.min_element()) * inv.max_element()
+    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`: (max I − min I) max I⁻¹, with
+    // `DVec3::max_element`'s and `min_element`'s comparisons in the same order (NaNs included)
+    let max_element = |v: V3<L>| v.x.cmp_max(v.y.cmp_max(v.z));
+    let spread = (max_element(inertia) - inertia.x.cmp_min(inertia.y.cmp_min(inertia.z))) * max_element(inv_inertia);
+    let [px, py, pz, qx] = rows::<L>(&group, ROW_STATE[0], |b| {
+        let s = &b.state;
+        [s.position.x, s.position.y, s.position.z, s.orientation.x]
+    });
+    let [qy, qz, qw, vx] = rows::<L>(&group, ROW_STATE[1], |b| {
+        let s = &b.state;
+        [s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x]
+    });
+    let [vy, vz, wx, wy] = rows::<L>(&group, ROW_STATE[2], |b| {
+        let s = &b.state;
+        [s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y]
+    });
+    let [_, _, wz, gravity_scale] = rows::<L>(&group, ROW_STATE[3], |b| {
+        let w = b.state.omega_body;
+        [w.x, w.y, w.z, b.gravity_scale]
     });
     // g_body = s g, as `RigidBody::gravity`
-    let gravity_scale = gather::<L>(group, |b| b.gravity_scale);
     let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
         .scale(gravity_scale);
-    let s = group.map(|b| &b.state);
-    let [px, py, pz, qx] = L::transpose(s.map(|s| L::new([s.position.x, s.position.y, s.position.z, s.orientation.x])));
-    let [qy, qz, qw, vx] =
-        L::transpose(s.map(|s| L::new([s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x])));
-    let [vy, vz, wx, wy] =
-        L::transpose(s.map(|s| L::new([s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y])));
-    let wz = L::new(s.map(|s| s.omega_body.z));
     let mut position = V3 { x: px, y: py, z: pz };
     let mut velocity = V3 { x: vx, y: vy, z: vz };
     let omega = V3 { x: wx, y: wy, z: wz };
@@ -168,16 +332,16 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
         & l_after.length_squared().le(l_before.length_squared() * round_off);
     let small = (hv * hv * w.length_squared() * spread * spread).le(L::splat(0.05 * 0.05));
     // the residual test only where the step is not small (the scalar `small || …`)
-    let converged = if small.bitmask() == (1 << LANES) - 1 {
+    let converged = if L::bits(small) == all {
         small
     } else {
         let residual_after = l_after.sub(l_before).add(omega_new.cross(l_after).scale(hv));
         small | residual_after.length_squared().le(L::splat(1e-6) * l_before.length_squared())
     };
-    let rejected = !(converged & kept).bitmask() & ((1 << LANES) - 1);
+    let rejected = !L::bits(converged & kept) & all;
     if rejected != 0 {
-        for k in (0..LANES).filter(|k| rejected & (1 << k) != 0) {
-            omega_new.set_lane(k, finish_implicit_gyroscopic(i.lane(k), w.lane(k), h));
+        for k in (0..L::N).filter(|k| rejected & (1 << k) != 0) {
+            set_lane3(&mut omega_new, k, finish_implicit_gyroscopic(lane3(i, k), lane3(w, k), h));
         }
     }
 
@@ -193,14 +357,12 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
                 + x2 * (L::splat(-1.0 / 720.0) + x2 * (L::splat(1.0 / 40320.0) + x2 * L::splat(-1.0 / 3628800.0)))));
     let v = phi.scale(L::splat(0.5) * sinc);
     let mut e = [v.x, v.y, v.z, cos];
-    let large = !x2.lt(L::splat(0.01)).bitmask() & ((1 << LANES) - 1);
+    let large = !L::bits(x2.lt(L::splat(0.01))) & all;
     if large != 0 {
-        for k in (0..LANES).filter(|k| large & (1 << k) != 0) {
-            let exp = quat_exp(phi.lane(k));
+        for k in (0..L::N).filter(|k| large & (1 << k) != 0) {
+            let exp = quat_exp(lane3(phi, k));
             for (component, value) in e.iter_mut().zip([exp.x, exp.y, exp.z, exp.w]) {
-                let mut a = component.to_array();
-                a[k] = value;
-                *component = L::new(a);
+                component.set_lane(k, value);
             }
         }
     }
@@ -220,7 +382,7 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
     for component in &mut q {
         *component = *component * newton;
     }
-    let far = !near.bitmask() & ((1 << LANES) - 1);
+    let far = !L::bits(near) & all;
 
     // the quick sanity test of `check_state`
     let max2 = L::splat(MAX_STATE_MAGNITUDE * MAX_STATE_MAGNITUDE);
@@ -228,28 +390,37 @@ fn x4<L: Lanes>(bodies: &mut [RigidBody], lanes: &[usize; LANES], count: usize, 
         position.length_squared().le(max2) & velocity.length_squared().le(max2) & omega_new.length_squared().le(max2);
     // |q|² of the stored quaternion, summed as `DQuat::length_squared` (the far lanes are redone)
     let q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-    let mut insane = (!sane.bitmask() | (!q2.le(L::splat(4.0)).bitmask() & !far)) & ((1 << LANES) - 1);
+    let mut insane = (!L::bits(sane) | (!L::bits(q2.le(L::splat(4.0))) & !far)) & all;
 
     // scatter: the same rows, transposed back
     let (p, v, o) = (position, velocity, omega_new);
-    let rows_a = L::transpose([p.x, p.y, p.z, q[0]]).map(L::to_array);
-    let rows_b = L::transpose([q[1], q[2], q[3], v.x]).map(L::to_array);
-    let rows_c = L::transpose([v.y, v.z, o.x, o.y]).map(L::to_array);
-    let wz = o.z.to_array();
-    for (k, &index) in lanes.iter().enumerate().take(count) {
-        let s = &mut bodies[index].state;
-        let ([a0, a1, a2, a3], [b0, b1, b2, b3], [c0, c1, c2, c3]) = (rows_a[k], rows_b[k], rows_c[k]);
-        s.position = DVec3::new(a0, a1, a2);
-        s.orientation = DQuat::from_xyzw(a3, b0, b1, b2);
-        s.velocity = DVec3::new(b3, c0, c1);
-        s.omega_body = DVec3::new(c2, c3, wz[k]);
+    L::to_rows([p.x, p.y, p.z, q[0]], |k, [x, y, z, qx]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.position, s.orientation.x) = (DVec3::new(x, y, z), qx);
+        }
+    });
+    L::to_rows([q[1], q[2], q[3], v.x], |k, [qy, qz, qw, vx]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x) = (qy, qz, qw, vx);
+        }
+    });
+    L::to_rows([v.y, v.z, o.x, o.y], |k, [vy, vz, wx, wy]| {
+        if k < count {
+            let s = &mut bodies[index[k]].state;
+            (s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y) = (vy, vz, wx, wy);
+        }
+    });
+    for (k, &i) in index.iter().enumerate().take(count) {
+        bodies[i].state.omega_body.z = o.z.lane(k);
     }
     // exact normalisation where |q|² was far from 1 (rare)
     if far != 0 {
-        let qu = q_unrenormalized.map(|c| c.to_array());
-        for (k, &index) in lanes.iter().enumerate().take(count).filter(|&(k, _)| far & (1 << k) != 0) {
-            let s = &mut bodies[index].state;
-            s.orientation = DQuat::from_xyzw(qu[0][k], qu[1][k], qu[2][k], qu[3][k]).normalize();
+        for k in (0..count).filter(|&k| far & (1 << k) != 0) {
+            let qu = q_unrenormalized.map(|c| c.lane(k));
+            let s = &mut bodies[index[k]].state;
+            s.orientation = DQuat::from_xyzw(qu[0], qu[1], qu[2], qu[3]).normalize();
             if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
                 insane |= 1 << k;
             }

@@ -358,7 +358,7 @@ impl<'a> Builder<'a> {
         }
         let frame = Frame { t, states: states.into_iter().flatten().collect() };
         self.frames_in_file += 1;
-        if (self.frames_in_file - 1) % self.stride == 0 {
+        if (self.frames_in_file - 1).is_multiple_of(self.stride) {
             if let Some(max) = self.options.max_frames {
                 if self.frames.len() >= 2 * max.max(1) {
                     // keep every other frame: the kept ones stay evenly spaced
@@ -370,7 +370,7 @@ impl<'a> Builder<'a> {
                     self.stride *= 2;
                 }
             }
-            if (self.frames_in_file - 1) % self.stride == 0 {
+            if (self.frames_in_file - 1).is_multiple_of(self.stride) {
                 self.frames.push(frame.clone());
             }
         }

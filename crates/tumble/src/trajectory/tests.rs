@@ -394,7 +394,7 @@ fn demo_flip_interval_matches_the_exact_one() {
     let every = world.config.sample_every;
     for _ in 0..world.config.step_count() {
         world.step().unwrap();
-        if world.steps() % every == 0 {
+        if world.steps().is_multiple_of(every) {
             monitor.observe(&world);
         }
     }

@@ -159,6 +159,19 @@ pub struct World {
     profile: Option<Profile>,
     /// The collision detection's threads (module `threads`).
     threads: threads::Threads,
+    /// The last moving body with a shape found, if any: a witness that the contact stage has work,
+    /// checked again at each step (the bodies may have changed) before it is believed.
+    shaped: Option<usize>,
+}
+
+/// Why the integration of the free bodies stopped early.
+#[derive(Debug)]
+enum Stop {
+    /// A body's state diverged.
+    Diverged(Diverged),
+    /// Body `index` moves and has a shape: the contact stage has work, the step must start over
+    /// with it (only when the integration was asked to watch for one).
+    Shaped(usize),
 }
 
 /// What the step keeps per body: the state before the step (to undo a step that diverges) and
@@ -182,6 +195,7 @@ impl World {
             first_contact: Vec::new(),
             profile: None,
             threads: threads::Threads::default(),
+            shaped: None,
         }
     }
 
@@ -226,7 +240,15 @@ impl World {
         // with contacts, the states are saved before the impulses change them; without, in the
         // integration's own pass (no extra sweep over the bodies)
         let mut clock = Clock::start(self.profile.is_some());
-        let contacts = self.contacts_possible();
+        // whether the contact stage has work; when that takes a look at every body, the integration
+        // pass looks (no pass of its own over the bodies), supposing there is none
+        let (contacts, integrated) = match self.contacts_known() {
+            Some(contacts) => (contacts, false),
+            None => {
+                let integrated = self.integrate_unless_shaped()?;
+                (!integrated, integrated)
+            }
+        };
         self.save_states(contacts);
         if contacts {
             // a small world is not worth the threads (nor their start)
@@ -246,9 +268,14 @@ impl World {
         }
         let contact_time = clock.lap();
         // a step that diverges is undone for the bodies whose states were saved
-        if let Err((saved, diverged)) = self.integrate_free_bodies(!contacts) {
-            self.undo(if contacts { self.bodies.len() } else { saved });
-            return Err(diverged);
+        if !integrated {
+            if let Err((saved, stop)) = self.integrate_free_bodies(!contacts, false) {
+                self.undo(if contacts { self.bodies.len() } else { saved });
+                match stop {
+                    Stop::Diverged(diverged) => return Err(diverged),
+                    Stop::Shaped(_) => unreachable!("not watched"),
+                }
+            }
         }
         if let Err(diverged) = self.step_robots() {
             self.undo(self.bodies.len());
@@ -267,12 +294,46 @@ impl World {
         Ok(())
     }
 
-    /// Whether the contact stage has anything to do: contacts enabled and a moving body with a shape
-    /// or a robot link with one.
-    fn contacts_possible(&self) -> bool {
-        self.config.contact.enabled
-            // the shape first: a body without one is settled by the one field
-            && (self.bodies.iter().any(|b| b.shape.is_some() && !b.fixed) || !self.contact.links.colliders.is_empty())
+    /// Whether the contact stage has anything to do — contacts enabled and a moving body with a shape
+    /// or a robot link with one — when that is known without a pass over the bodies: contacts off, a
+    /// robot link with a shape, or the body found last time still moving with a shape. `None`: only
+    /// a look at every body can tell ([`World::integrate_unless_shaped`]).
+    fn contacts_known(&self) -> Option<bool> {
+        if !self.config.contact.enabled {
+            return Some(false);
+        }
+        let still_shaped = |&i: &usize| self.bodies.get(i).is_some_and(|b| b.shape.is_some() && !b.fixed);
+        (!self.contact.links.colliders.is_empty() || self.shaped.as_ref().is_some_and(still_shaped)).then_some(true)
+    }
+
+    /// The first moving body with a shape, if any.
+    fn first_shaped(&self) -> Option<usize> {
+        // the shape first: a body without one is settled by the one field
+        self.bodies.iter().position(|b| b.shape.is_some() && !b.fixed)
+    }
+
+    /// The integration of the free bodies when contacts are enabled but no robot link has a shape
+    /// and no moving body is known to have one: integrates the bodies as if the contact stage had
+    /// nothing to do, looking at each body for a shape on the way (the pass over the bodies that
+    /// says whether the contact stage has work is the integration's own). `Ok(true)`: no moving body
+    /// has a shape, every body is integrated. `Ok(false)`: body `i` moves with a shape; what was
+    /// stepped is undone and `i` is remembered, the step goes through the contact stage. A
+    /// divergence is undone and returned only if no moving body has a shape (else the contact stage
+    /// would have run first, and the step is done with it).
+    fn integrate_unless_shaped(&mut self) -> Result<bool, Diverged> {
+        self.save_states(false);
+        let Err((saved, stop)) = self.integrate_free_bodies(true, true) else {
+            return Ok(true);
+        };
+        self.undo(saved);
+        self.shaped = match stop {
+            Stop::Shaped(index) => Some(index),
+            Stop::Diverged(diverged) => match self.first_shaped() {
+                None => return Err(diverged),
+                index => index,
+            },
+        };
+        Ok(false)
     }
 
     /// Sizes the per-body scratch; saves every state now unless the integration will (`now`).
@@ -342,19 +403,26 @@ impl World {
     }
 
     /// Integrates every free body over one step and checks its state; `save`: keep each state from
-    /// before the step in the same pass. On divergence, also the number of bodies stepped so far.
-    fn integrate_free_bodies(&mut self, save: bool) -> Result<(), (usize, Diverged)> {
+    /// before the step in the same pass; `watch`: stop at the first moving body with a shape. When
+    /// stopped, also the number of bodies whose states were saved so far (`save`).
+    fn integrate_free_bodies(&mut self, save: bool, watch: bool) -> Result<(), (usize, Stop)> {
         let config = self.config;
         if config.integrator == Integrator::SemiImplicitEuler {
-            return self.integrate_free_bodies_batched(save);
+            return self.integrate_free_bodies_batched(save, watch);
         }
         let sleep = self.contact.sleep();
         for (index, (body, scratch)) in self.bodies.iter_mut().zip(self.scratch.iter_mut()).enumerate() {
-            if body.fixed || sleep.is_asleep(index) {
+            if body.fixed {
                 continue;
+            }
+            if watch && body.shape.is_some() {
+                return Err((index, Stop::Shaped(index)));
             }
             if save {
                 scratch.before = body.state;
+            }
+            if sleep.is_asleep(index) {
+                continue;
             }
             let rhs = BodyRhs { mass: &body.mass, loads: &body.loads, gravity_world: body.gravity(config.gravity) };
             let advanced = advance_body(
@@ -376,7 +444,7 @@ impl World {
                     step: self.steps + 1,
                     time: (self.steps + 1) as f64 * config.dt,
                 };
-                return Err((index + 1, diverged));
+                return Err((index + 1, Stop::Diverged(diverged)));
             }
         }
         Ok(())
