@@ -249,12 +249,10 @@ impl<L: SolveLanes> Slot<L> {
         let held = self.holds();
 
         // normal: the separation at this substep, then the open / biased / relaxing row
-        let s = if RELAX {
+        if RELAX {
             self.separation = self.measure(ma, mb);
-            self.separation
-        } else {
-            self.separation
-        };
+        }
+        let s = self.separation;
         let open = s.gt(zero);
         let (closed_bias, closed_mass, closed_impulse) = if !RELAX {
             let bias = (self.bias_rate * (s + L::splat(sweep.slop)).min(zero)).max(L::splat(-sweep.max_push));

@@ -164,19 +164,16 @@ pub fn semi_implicit_euler_batch(
     gravity_world: DVec3,
     h: f64,
 ) -> u32 {
-    #[cfg(target_arch = "x86_64")]
-    if has_avx512() {
-        // SAFETY: the CPU has AVX-512F
-        #[allow(unsafe_code)]
-        return unsafe { x8_avx512(bodies, lanes, count, gravity_world, h) };
+    if let Some(diverging) = semi_implicit_euler_x8_avx512(bodies, lanes, count, gravity_world, h) {
+        return diverging;
     }
     assert!(count <= LANES, "{count} bodies in a batch of {LANES}");
     let four = core::array::from_fn(|k| lanes[k.min(count - 1)]);
     semi_implicit_euler_x4(bodies, &four, count, gravity_world, h)
 }
 
-/// [`semi_implicit_euler_batch`] in eight AVX-512 lanes, or `None` where the CPU lacks AVX-512F: the
-/// eight-lane kernel driven directly, for tests and benchmarks.
+/// [`semi_implicit_euler_batch`] in eight AVX-512 lanes, or `None` where the CPU lacks AVX-512F (the
+/// batch's own first choice; public to drive the eight-lane kernel directly in tests and benchmarks).
 pub fn semi_implicit_euler_x8_avx512(
     bodies: &mut [RigidBody],
     lanes: &[usize; MAX_LANES],

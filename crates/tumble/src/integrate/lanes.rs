@@ -343,32 +343,33 @@ mod avx {
 
     /// Four lanes in one AVX register.
     ///
-    /// Safety: every method runs AVX instructions. The type is private to the batched step, whose only
-    /// use of it is inside a `#[target_feature(enable = "avx2")]` function entered after
-    /// `is_x86_feature_detected!("avx2")`; the methods are `#[inline(always)]` so that they are
+    /// Safety: every method runs AVX instructions. The type's only uses, in the batched step and the
+    /// contact solver (`contact::batch`), are inside `#[target_feature(enable = "avx2")]` functions
+    /// entered after `is_x86_feature_detected!("avx2")`; the methods are `#[inline(always)]` so that they are
     /// compiled into that function.
     #[derive(Clone, Copy)]
     #[repr(transparent)]
     pub(crate) struct Avx(__m256d);
 
+    /// `impl Trait for Lanes` by one intrinsic on the register of each operand.
     macro_rules! binary {
-        ($trait:ident, $method:ident, $intrinsic:ident) => {
-            impl $trait for Avx {
+        ($lanes:ident, $trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for $lanes {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, other: Self) -> Self {
                     // SAFETY: see the type's documentation
-                    Avx(unsafe { $intrinsic(self.0, other.0) })
+                    $lanes(unsafe { $intrinsic(self.0, other.0) })
                 }
             }
         };
     }
-    binary!(Add, add, _mm256_add_pd);
-    binary!(Sub, sub, _mm256_sub_pd);
-    binary!(Mul, mul, _mm256_mul_pd);
-    binary!(BitAnd, bitand, _mm256_and_pd);
-    binary!(BitOr, bitor, _mm256_or_pd);
-    binary!(Div, div, _mm256_div_pd);
+    binary!(Avx, Add, add, _mm256_add_pd);
+    binary!(Avx, Sub, sub, _mm256_sub_pd);
+    binary!(Avx, Mul, mul, _mm256_mul_pd);
+    binary!(Avx, BitAnd, bitand, _mm256_and_pd);
+    binary!(Avx, BitOr, bitor, _mm256_or_pd);
+    binary!(Avx, Div, div, _mm256_div_pd);
 
     impl Default for Avx {
         #[inline(always)]
@@ -496,21 +497,9 @@ mod avx {
     #[derive(Clone, Copy)]
     pub(crate) struct Avx512(__m512d);
 
-    macro_rules! binary512 {
-        ($trait:ident, $method:ident, $intrinsic:ident) => {
-            impl $trait for Avx512 {
-                type Output = Self;
-                #[inline(always)]
-                fn $method(self, other: Self) -> Self {
-                    // SAFETY: see the type's documentation
-                    Avx512(unsafe { $intrinsic(self.0, other.0) })
-                }
-            }
-        };
-    }
-    binary512!(Add, add, _mm512_add_pd);
-    binary512!(Sub, sub, _mm512_sub_pd);
-    binary512!(Mul, mul, _mm512_mul_pd);
+    binary!(Avx512, Add, add, _mm512_add_pd);
+    binary!(Avx512, Sub, sub, _mm512_sub_pd);
+    binary!(Avx512, Mul, mul, _mm512_mul_pd);
 
     /// The 4×4 transposes of the low and of the high halves of four AVX-512 registers at once:
     /// lane `j` of half `h` of `z[k]` goes to lane `k` of half `h` of result `j`.
