@@ -118,6 +118,8 @@ pub struct Colliders {
     composite_pairs: composite::CompositePairs,
     /// The world's thread pool (`None`: one thread) and the buffers of its chunks (module `parallel`).
     pool: Option<std::sync::Arc<rayon::ThreadPool>>,
+    /// With a pool, the narrow phase runs on it from this many candidate pairs on.
+    parallel_min_pairs: usize,
     chunks: parallel::Chunks,
 }
 
@@ -194,6 +196,7 @@ impl Colliders {
             composite: Vec::new(),
             composite_pairs: composite::CompositePairs::default(),
             pool: None,
+            parallel_min_pairs: parallel::MIN_PAIRS,
             chunks: parallel::Chunks::default(),
         };
         c.rebuild(bodies);
@@ -235,6 +238,14 @@ impl Colliders {
     /// step, as before the manifolds were kept).
     pub fn set_reuse_fraction(&mut self, fraction: f64) {
         self.reuse_fraction = fraction.max(0.0);
+    }
+
+    /// Sets the number of candidate pairs from which the narrow phase runs on the thread pool
+    /// (4,096 by default; 0: always, when there is a pool). The
+    /// contacts are the same bit for bit either way: the tests lower it to run small scenes on
+    /// the threads.
+    pub fn set_parallel_min_pairs(&mut self, pairs: usize) {
+        self.parallel_min_pairs = pairs;
     }
 
     /// Runs the narrow phase on `pool`'s threads, or on the caller's
@@ -319,7 +330,7 @@ impl Colliders {
         let mut manifolds = std::mem::take(&mut self.manifolds);
         manifolds.begin_step();
         let (convex, reused) = match self.pool.clone() {
-            Some(pool) if pairs.len() >= parallel::MIN_PAIRS => {
+            Some(pool) if pairs.len() >= self.parallel_min_pairs => {
                 self.narrow_phase_parallel(&pool, bodies, &pairs, &mut manifolds, out)
             }
             _ => {
