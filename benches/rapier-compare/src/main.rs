@@ -104,6 +104,10 @@ struct Run {
     pairs: (f64, f64),
     /// Bodies asleep at the end.
     asleep: usize,
+    /// Contact points per step given to the solver (tumble: found by the narrow phase; Rapier: its
+    /// solver contacts, counted after each step outside the timing), and its substeps.
+    points: f64,
+    substeps: f64,
 }
 
 fn run_tumble(mut world: tumble::World, steps: usize, sleep: bool) -> Run {
@@ -128,15 +132,24 @@ fn run_tumble(mut world: tumble::World, steps: usize, sleep: bool) -> Run {
     let p = world.profile().expect("profiling is on").per_step();
     let stages = [p.broad_phase, p.narrow_phase, p.impacts, p.resting, p.integration].map(|s| s * 1e3);
     let asleep = world.contacts().sleep().count();
-    Run { ms_per_step, largest_displacement, stages, pairs: (p.pairs, p.reused), asleep }
+    let substeps = f64::from(world.config.contact.substeps);
+    Run { ms_per_step, largest_displacement, stages, pairs: (p.pairs, p.reused), asleep, points: p.contacts, substeps }
 }
 
 fn run_rapier(world: &tumble::World, steps: usize, sleep: bool) -> Run {
     let (mut rw, handles) = rapier_world(world, sleep);
     let mut stages = [0.0; 5];
+    let (mut points, mut counting) = (0usize, std::time::Duration::ZERO);
     let t = Instant::now();
     for _ in 0..steps {
         rw.step();
+        let count = Instant::now();
+        for pair in rw.contact_pairs() {
+            if let PairContacts::Rigid(rigid) = &pair.contacts {
+                points += rigid.solver_manifolds().iter().map(|m| m.data.solver_contacts.len()).sum::<usize>();
+            }
+        }
+        counting += count.elapsed();
         // the counters are reset at the start of every step
         let c = &rw.physics_pipeline.counters;
         let broad = c.cd.broad_phase_time.time_ms();
@@ -147,7 +160,7 @@ fn run_rapier(world: &tumble::World, steps: usize, sleep: bool) -> Run {
         stages[2] += solver;
         stages[3] += c.step_time.time_ms() - detection - solver;
     }
-    let ms_per_step = t.elapsed().as_secs_f64() * 1e3 / steps as f64;
+    let ms_per_step = (t.elapsed() - counting).as_secs_f64() * 1e3 / steps as f64;
     let largest_displacement = world
         .bodies
         .iter()
@@ -156,7 +169,15 @@ fn run_rapier(world: &tumble::World, steps: usize, sleep: bool) -> Run {
         .filter_map(|(b, h)| h.map(|h| (rw.bodies[h].translation() - b.state.position).length()))
         .fold(0.0, f64::max);
     let asleep = rw.bodies.iter().filter(|(_, b)| b.is_dynamic() && b.is_sleeping()).count();
-    Run { ms_per_step, largest_displacement, stages: stages.map(|s| s / steps as f64), pairs: (0.0, 0.0), asleep }
+    Run {
+        ms_per_step,
+        largest_displacement,
+        stages: stages.map(|s| s / steps as f64),
+        pairs: (0.0, 0.0),
+        asleep,
+        points: points as f64 / steps as f64,
+        substeps: rw.integration_parameters.num_solver_iterations as f64,
+    }
 }
 
 fn median(mut xs: Vec<f64>) -> f64 {
@@ -294,6 +315,28 @@ fn main() {
             med(&runs[0], |r| r.ms_per_step),
             med(&runs[3], |r| r.ms_per_step),
             med(&runs[2], |r| r.ms_per_step)
+        );
+        println!(
+            "| contact points per step, solver substeps | {:.0}, {:.0} | {:.0}, {:.0} | {:.0}, {:.0} | {:.0}, {:.0} |",
+            med(&runs[1], |r| r.points),
+            med(&runs[1], |r| r.substeps),
+            med(&runs[0], |r| r.points),
+            med(&runs[0], |r| r.substeps),
+            med(&runs[3], |r| r.points),
+            med(&runs[3], |r| r.substeps),
+            med(&runs[2], |r| r.points),
+            med(&runs[2], |r| r.substeps)
+        );
+        // the resting stage (Rapier: its solver) per contact point and substep
+        let per_point = |runs: &[Run], k: usize| {
+            med(runs, |r| if r.points > 0.0 { r.stages[k] * 1e6 / (r.points * r.substeps) } else { f64::NAN })
+        };
+        println!(
+            "| resting contact per point and substep (ns) | {:.0} | {:.0} | {:.0} | {:.0} |",
+            per_point(&runs[1], 3),
+            per_point(&runs[0], 2),
+            per_point(&runs[3], 3),
+            per_point(&runs[2], 2)
         );
         println!(
             "| convex pairs per step, manifolds reused | {:.0}, {:.0} | | {:.0}, {:.0} | |",
