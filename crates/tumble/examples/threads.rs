@@ -4,8 +4,11 @@
 //! like). The trajectories are the same bit for bit at any thread count; this checks it too.
 //!
 //! Usage: `cargo run --release -p tumble --example threads -- SCENE.toml [N=2] [STEPS=60] [ROUNDS=5]
-//! [WARM=0] [awake]` (`WARM` steps are taken first, once, at one thread, to start from a settled
-//! state; `awake` turns sleeping off: every body is solved at every step).
+//! [WARM=0] [awake|asleep] [MIN_PAIRS]` (`WARM` steps are taken first, once, at one thread, to
+//! start from a settled state; `awake` turns sleeping off: every body is solved at every step;
+//! `MIN_PAIRS` sets the number of candidate pairs from which the narrow phase goes to the pool,
+//! `Colliders::set_parallel_min_pairs`). The thread pool is built by one untimed step before the
+//! rounds (the same step at each thread count), and shared by the rounds' copies of the world.
 
 use std::path::Path;
 
@@ -32,14 +35,29 @@ fn main() {
     for _ in 0..warm {
         start.step().expect("the scene runs");
     }
+    let min_pairs: Option<usize> = args.get(6).and_then(|a| a.parse().ok());
     let counts = [1, n];
+    // one step at each thread count outside the timing: it builds the pool, which the copies share
+    let bases: Vec<tumble::World> = counts
+        .iter()
+        .map(|&threads| {
+            let mut world = start.clone();
+            world.set_threads(threads);
+            if let Some(m) = min_pairs {
+                let bodies = world.bodies.clone();
+                world.contact_stage().colliders_mut(&bodies).set_parallel_min_pairs(m);
+            }
+            world.step().expect("the scene runs");
+            world
+        })
+        .collect();
     // per thread count, per round: the stages (ms per step)
     let mut times: Vec<Vec<[f64; 6]>> = vec![Vec::new(); 2];
     let mut ends = [Vec::new(), Vec::new()];
     for _ in 0..rounds {
         for (k, &threads) in counts.iter().enumerate() {
-            let mut world = start.clone();
-            world.set_threads(threads);
+            let mut world = bases[k].clone();
+            debug_assert_eq!(world.threads(), threads);
             world.set_profiling(true);
             for _ in 0..steps {
                 world.step().expect("the scene runs");
@@ -55,7 +73,7 @@ fn main() {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    println!("{path}: {steps} steps from step {warm}, median of {rounds} interleaved rounds, ms per step\n");
+    println!("{path}: {steps} steps from step {}, median of {rounds} interleaved rounds, ms per step\n", warm + 1);
     println!("| stage | 1 thread | {n} threads | ratio |");
     println!("|---|---|---|---|");
     let names = ["broad phase", "narrow phase", "collisions (impacts)", "resting contact", "integration", "whole step"];
