@@ -17,12 +17,12 @@ use crate::body::RigidBody;
 use rayon::prelude::*;
 
 /// Fewer candidate pairs than this are done on the caller's thread
-/// ([`Colliders::set_parallel_min_pairs`] changes it). Handing the narrow phase to the pool and
-/// waiting for it costs about 0.19 ms per step on the 2-vCPU machine, and the second thread took
-/// 16 % off the work: measured with `examples/threads.rs`, the balls' 1,900 pairs (0.25 ms) took
-/// 1.57× as long on two threads, the pile's 12,000 (4.2 ms) 0.88×, so the break-even is near
-/// 1.2 ms of work, 4,000 pairs. On cores that each give their full speed it is lower (about 1,300
-/// pairs at a 45 % gain): this errs on the side of the machine the figures come from.
+/// ([`Colliders::set_parallel_min_pairs`] changes it). On the 2-vCPU machine the figures come from,
+/// handing the narrow phase to the pool and waiting for it cost 0.3–0.4 ms per step: the pyramid's
+/// 780 pairs (0.22 ms on one thread) took 2.8× as long on two, the balls' 1,900 (0.30 ms) 2.3×
+/// (`examples/threads.rs`); the pile's 12,000 (about 5 ms) came out between 1.16× and 1.01×, within
+/// the machine's noise. So only scenes with thousands of pairs go to the pool (`docs/contact.md`,
+/// "Many cores").
 pub(super) const MIN_PAIRS: usize = 4096;
 
 /// Chunks per thread: enough for the threads to even out pairs of unequal cost.
