@@ -90,7 +90,7 @@ fn axis_rotation<const I: usize>(inv_inertia_body: DVec3, q: &mut DQuat, l_body:
         1 => DQuat::from_xyzw(0.0, s, 0.0, c),
         _ => DQuat::from_xyzw(0.0, 0.0, s, c),
     };
-    *q = *q * r;
+    *q *= r;
     // L ← Rot_i(θ)ᵀ L: the two other components turn by −θ
     let (j, k) = ((I + 1) % 3, (I + 2) % 3);
     let (cos_t, sin_t) = (c * c - s * s, 2.0 * s * c);

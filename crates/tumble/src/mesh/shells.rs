@@ -78,7 +78,8 @@ pub(super) fn orient_shells(
     let mut flip = vec![false; shells.len()];
     let (mut flipped, mut flipped_volume, mut cavities, mut cavity_volume) = (0, 0.0, 0, 0.0);
     for (k, shell) in shells.iter().enumerate() {
-        if !(shell.six_volume < -negligible) {
+        // not clearly negative (a NaN volume included): not turned inside out
+        if shell.six_volume.partial_cmp(&-negligible) != Some(std::cmp::Ordering::Less) {
             continue;
         }
         let is_cavity = shells.iter().any(|outer| outer.six_volume > negligible && within(shell, outer));

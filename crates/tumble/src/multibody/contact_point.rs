@@ -88,12 +88,10 @@ pub fn collision_matrix(jac: &[f64], w: &[f64], nv: usize) -> DMat3 {
         }
     }
     // symmetrise the round-off: K_rs = J_r M⁻¹ J_sᵀ = K_sr
-    for r in 0..3 {
-        for s in r + 1..3 {
-            let mean = 0.5 * (k[r][s] + k[s][r]);
-            k[r][s] = mean;
-            k[s][r] = mean;
-        }
+    for (r, s) in [(0, 1), (0, 2), (1, 2)] {
+        let mean = 0.5 * (k[r][s] + k[s][r]);
+        k[r][s] = mean;
+        k[s][r] = mean;
     }
     DMat3::from_cols_array_2d(&k).transpose()
 }
