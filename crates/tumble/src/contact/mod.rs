@@ -295,6 +295,14 @@ impl ContactStage {
             let colliders = self.colliders.as_ref().expect("built above");
             self.links.detect(colliders, bodies, robots, dt, settings.slop);
         }
+        if steady && self.links.is_empty() {
+            // the kept contacts are all between sleeping or fixed bodies (nothing awake touched
+            // anything in this step or the last, and nothing fell asleep or woke since), so they
+            // wake nobody: nothing to solve. As below when there is no contact at all: the robots'
+            // rows of an earlier step go
+            self.links.clear();
+            return;
+        }
         if self.sleep.wake_touched(bodies, &self.contacts, self.links.touched_bodies()) {
             self.steady = None;
             // the contacts of an island that woke are solved in this step
@@ -304,10 +312,6 @@ impl ContactStage {
                     self.impulses[k] = DVec3::ZERO;
                 }
             }
-        } else if steady && self.links.is_empty() {
-            // as below when there is no contact at all: the robots' rows of an earlier step go
-            self.links.clear();
-            return;
         }
         if self.contacts.is_empty() && self.links.is_empty() {
             self.previous.clear();

@@ -269,7 +269,9 @@ impl Sleep {
             for c in contacts {
                 let (a, b) = (c.a, c.b);
                 for (i, other) in [(a, b), (b, a)] {
-                    if self.asleep[i] && !bodies[other].fixed && !self.asleep[other] {
+                    // `asleep` first: a sleeping island's contacts are between sleeping bodies,
+                    // and the bodies themselves (far apart in memory) are then not read
+                    if self.asleep[i] && !self.asleep[other] && !bodies[other].fixed {
                         self.wake_island(i);
                         woke = true;
                     }
