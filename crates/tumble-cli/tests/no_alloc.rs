@@ -133,10 +133,7 @@ fn contact_allocations_on(name: &str, steps: u64, threads: usize) -> usize {
     let mut world = tumble::scene::load(&path).unwrap().world;
     assert!(world.config.contact.enabled);
     world.set_threads(threads);
-    if threads != 1 {
-        let bodies = world.bodies.clone();
-        world.contact_stage().colliders_mut(&bodies).set_parallel_min_pairs(0);
-    }
+    world.set_parallel_min_pairs(0);
     world.config.duration = steps as f64 * world.config.dt;
     world.config.sample_every = 1;
     let mut writer = TrajectoryWriter::new(std::io::sink(), Format::Csv, &world).unwrap();

@@ -7,7 +7,7 @@
 //! [WARM=0] [awake|asleep] [MIN_PAIRS]` (`WARM` steps are taken first, once, at one thread, to
 //! start from a settled state; `awake` turns sleeping off: every body is solved at every step;
 //! `MIN_PAIRS` sets the number of candidate pairs from which the narrow phase goes to the pool,
-//! `Colliders::set_parallel_min_pairs`). The thread pool is built by one untimed step before the
+//! `World::set_parallel_min_pairs`). The thread pool is built by one untimed step before the
 //! rounds (the same step at each thread count), and shared by the rounds' copies of the world.
 
 use std::path::Path;
@@ -15,7 +15,7 @@ use std::path::Path;
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(path) = args.first() else {
-        eprintln!("usage: threads SCENE.toml [N=2] [STEPS=60] [ROUNDS=5] [WARM=0] [awake]");
+        eprintln!("usage: threads SCENE.toml [N=2] [STEPS=60] [ROUNDS=5] [WARM=0] [awake|asleep] [MIN_PAIRS]");
         std::process::exit(2);
     };
     let arg = |i: usize, default: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(default);
@@ -44,8 +44,7 @@ fn main() {
             let mut world = start.clone();
             world.set_threads(threads);
             if let Some(m) = min_pairs {
-                let bodies = world.bodies.clone();
-                world.contact_stage().colliders_mut(&bodies).set_parallel_min_pairs(m);
+                world.set_parallel_min_pairs(m);
             }
             world.step().expect("the scene runs");
             world

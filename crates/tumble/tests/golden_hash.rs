@@ -38,14 +38,11 @@ const GOLDEN_AWAKE: [(&str, u64, u64); 3] = [
 /// The thread counts every scene is run with.
 const THREADS: [usize; 3] = [1, 2, 4];
 
-/// Runs `world` on `threads` threads; on more than one, every narrow phase on the pool, however
-/// few its pairs.
+/// Runs `world` on `threads` threads, every narrow phase on the pool (when there is one: more than
+/// one thread), however few its pairs.
 fn on_threads(world: &mut World, threads: usize) {
     world.set_threads(threads);
-    if threads > 1 {
-        let bodies = world.bodies.clone();
-        world.contact_stage().colliders_mut(&bodies).set_parallel_min_pairs(0);
-    }
+    world.set_parallel_min_pairs(0);
 }
 
 /// The hash of the scene's state after `steps` steps, the world configured by `configure` first.

@@ -240,17 +240,11 @@ impl Colliders {
         self.reuse_fraction = fraction.max(0.0);
     }
 
-    /// Sets the number of candidate pairs from which the narrow phase runs on the thread pool
-    /// (4,096 by default; 0: always, when there is a pool). The
-    /// contacts are the same bit for bit either way: the tests lower it to run small scenes on
-    /// the threads.
-    pub fn set_parallel_min_pairs(&mut self, pairs: usize) {
-        self.parallel_min_pairs = pairs;
-    }
-
-    /// Runs the narrow phase on `pool`'s threads, or on the caller's
-    /// alone for `None`; the contacts are the same bit for bit either way.
-    pub fn set_thread_pool(&mut self, pool: Option<&std::sync::Arc<rayon::ThreadPool>>) {
+    /// Runs the narrow phase on `pool`'s threads when it has at least `min_pairs` candidate pairs
+    /// (`None`: 4,096), or on the caller's alone (always for a `pool` of `None`); the contacts are
+    /// the same bit for bit either way.
+    pub fn set_thread_pool(&mut self, pool: Option<&std::sync::Arc<rayon::ThreadPool>>, min_pairs: Option<usize>) {
+        self.parallel_min_pairs = min_pairs.unwrap_or(parallel::MIN_PAIRS);
         let same = match (&self.pool, pool) {
             (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
             (None, None) => true,

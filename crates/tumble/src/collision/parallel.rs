@@ -17,7 +17,7 @@ use crate::body::RigidBody;
 use rayon::prelude::*;
 
 /// Fewer candidate pairs than this are done on the caller's thread
-/// ([`Colliders::set_parallel_min_pairs`] changes it). On the 2-vCPU machine the figures come from,
+/// ([`World::set_parallel_min_pairs`](crate::World::set_parallel_min_pairs) changes it). On the 2-vCPU machine the figures come from,
 /// handing the narrow phase to the pool and waiting for it cost 0.3–0.4 ms per step: the pyramid's
 /// 780 pairs (0.22 ms on one thread) took 2.8× as long on two, the balls' 1,900 (0.30 ms) 2.3×
 /// (`examples/threads.rs`); the pile's 12,000 (about 5 ms) came out between 1.16× and 1.01×, within

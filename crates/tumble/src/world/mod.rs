@@ -252,9 +252,10 @@ impl World {
         self.save_states(contacts);
         if contacts {
             // a small world is not worth the threads (nor their start)
+            let min_pairs = self.threads.min_pairs;
             let pool =
                 if self.bodies.len() >= threads::MIN_BODIES { self.threads.pool(self.config.threads) } else { None };
-            self.contact.colliders_mut(&self.bodies).set_thread_pool(pool);
+            self.contact.colliders_mut(&self.bodies).set_thread_pool(pool, min_pairs);
             let lead = self.config.integrator.position_lead();
             self.contact.resolve(
                 &mut self.bodies,

@@ -25,6 +25,8 @@ pub(super) struct Threads {
     pool: Option<Arc<rayon::ThreadPool>>,
     /// The setting the pool was last settled for (`None`: never).
     built_for: Option<usize>,
+    /// The candidate pairs from which the narrow phase goes to the pool (`None`: the default).
+    pub(super) min_pairs: Option<usize>,
 }
 
 /// The number of threads a setting means: `0` is one per core.
@@ -68,6 +70,14 @@ impl World {
     /// caller's thread only. The results do not depend on it.
     pub fn set_threads(&mut self, threads: usize) {
         self.config.threads = threads;
+    }
+
+    /// Sends the narrow phase to the thread pool (when there is one) from `pairs` candidate pairs
+    /// on, instead of the default 4,096 (below it, handing the work over costs more than it saves;
+    /// `docs/contact.md`, "Many cores"). 0: always. The contacts are the same bit for bit either
+    /// way: the tests use it to run small scenes on the threads.
+    pub fn set_parallel_min_pairs(&mut self, pairs: usize) {
+        self.threads.min_pairs = Some(pairs);
     }
 
     /// The number of threads the collision detection uses: the setting, 0 read as the number of
