@@ -50,6 +50,7 @@ const BROWSER_SERVICE_DOMAINS: [&str; 5] =
     ["google.com", "googleapis.com", "gvt1.com", "gstatic.com", "googleusercontent.com"];
 
 /// A proxy that records the first line of every request and answers none (every load fails).
+/// Connections on which nothing is asked are not recorded.
 struct Proxy {
     port: u16,
     requests: Arc<Mutex<Vec<String>>>,
@@ -66,7 +67,14 @@ impl Proxy {
                 let mut line = String::new();
                 let _ = stream.set_read_timeout(Some(Duration::from_secs(2)));
                 let _ = BufReader::new(&stream).read_line(&mut line);
-                seen.lock().unwrap().push(line.trim().to_string());
+                // A connection that sent no request line before it closed or went quiet is the
+                // browser opening a socket ahead of need (a preconnect to the proxy), not a request.
+                let line = line.trim();
+                if line.is_empty() {
+                    eprintln!("proxy: a connection without a request");
+                } else {
+                    seen.lock().unwrap().push(line.to_string());
+                }
             }
         });
         Proxy { port, requests }
