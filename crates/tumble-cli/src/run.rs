@@ -438,6 +438,9 @@ fn loop_failure(e: LoopError, trajectory: (&Path, &Path), contacts: Option<(&Pat
     }
 }
 
+/// Writes the summary to its output. A pipe whose reader has gone (`--summary /dev/stdout -q | head
+/// -c 0`: a broken pipe) is not a failure, as for the table on stdout ([`Stdout`]): the reader chose
+/// to stop, and the other outputs are already complete. Any other error is exit 4.
 fn write_summary(summary: &Summary, output: OutputFile, path: &Path) -> Result<(), Failure> {
     let json = match summary.to_json() {
         Ok(json) => json,
@@ -446,8 +449,10 @@ fn write_summary(summary: &Summary, output: OutputFile, path: &Path) -> Result<(
             return Err(Failure::diverged(format!("{}: {e}", path.display())));
         }
     };
-    let written = std::fs::write(output.partial(), json).and_then(|()| output.commit());
-    written.map_err(|e| Failure::output(format!("cannot write '{}': {e}", path.display())))
+    match std::fs::write(output.partial(), json).and_then(|()| output.commit()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        written => written.map_err(|e| Failure::output(format!("cannot write '{}': {e}", path.display()))),
+    }
 }
 
 #[cfg(test)]

@@ -173,3 +173,58 @@ fn bad_convex_points_and_compounds_are_exit_2_naming_the_line_and_field() {
         }
     }
 }
+
+/// Runs `tumble ARGS` in `dir`, which holds the inputs already: exit 2, `error: ` first on stderr,
+/// nothing on stdout, and no entry added to `dir`. Returns stderr.
+fn bad_input_in(dir: &std::path::Path, args: &[&str]) -> String {
+    let before = files(dir);
+    let output = tumble(dir).args(args).output().unwrap();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+    assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+    assert!(output.stdout.is_empty(), "{args:?}: {}", String::from_utf8_lossy(&output.stdout));
+    assert_eq!(files(dir), before, "{args:?} wrote a file");
+    stderr
+}
+
+#[test]
+fn an_input_that_is_a_directory_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["scene.toml", "scene.json", "mesh.obj", "robot.urdf"] {
+        fs::create_dir(dir.path().join(name)).unwrap();
+    }
+    for args in [
+        ["run", "scene.toml"],
+        ["check", "scene.toml"],
+        ["run", "scene.json"],
+        ["mass", "mesh.obj"],
+        ["model", "robot.urdf"],
+    ] {
+        let stderr = bad_input_in(dir.path(), &args);
+        assert!(stderr.contains(args[1]), "{args:?}: {stderr}");
+        assert!(stderr.to_lowercase().contains("is a directory"), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn an_unreadable_input_is_named() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let cube = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let robot = "<robot name=\"r\"><link name=\"a\"/></robot>\n";
+    for (name, text) in [("scene.toml", "version = 1\n"), ("mesh.obj", cube), ("robot.urdf", robot)] {
+        let path = dir.path().join(name);
+        fs::write(&path, text).unwrap();
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o000)).unwrap();
+    }
+    // permissions do not stop a privileged user (root) from reading: nothing to test then
+    if fs::read(dir.path().join("scene.toml")).is_ok() {
+        eprintln!("skipped: a file of mode 000 is readable here (running as root?)");
+        return;
+    }
+    for args in [["run", "scene.toml"], ["check", "scene.toml"], ["mass", "mesh.obj"], ["model", "robot.urdf"]] {
+        let stderr = bad_input_in(dir.path(), &args);
+        assert!(stderr.contains(args[1]), "{args:?}: {stderr}");
+        assert!(stderr.contains("Permission denied"), "{args:?}: {stderr}");
+    }
+}

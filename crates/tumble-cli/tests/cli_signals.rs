@@ -108,3 +108,67 @@ fn a_reader_that_stops_after_ten_bytes_is_no_panic() {
     assert_eq!(status.code(), Some(0), "{stderr}");
     assert!(stderr.is_empty(), "{stderr}");
 }
+
+/// Runs `tumble ARGS` in `dir` with a stdout whose reader has gone before anything is written (as
+/// `tumble ... | true`); returns the exit status and stderr.
+fn with_a_closed_stdout(dir: &std::path::Path, args: &[&str]) -> (Option<i32>, String) {
+    let mut child = tumble(dir).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    drop(child.stdout.take());
+    let mut stderr = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut stderr).unwrap();
+    (child.wait().unwrap().code(), stderr)
+}
+
+#[test]
+fn a_closed_pipe_for_the_summary_is_a_quiet_exit_with_the_trajectory_complete() {
+    // the README's `--summary /dev/stdout -q`, read by a reader that stops at once
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["run", "--duration", "0.3", "--out", "t.csv", "--summary", "/dev/stdout", "-q"];
+    let (status, stderr) = with_a_closed_stdout(dir.path(), &args);
+    assert_eq!(status, Some(0), "{stderr}");
+    assert!(stderr.is_empty(), "a closed pipe is a quiet exit: {stderr}");
+    // the trajectory is whole: renamed into place, every body sampled up to the end of the run
+    assert!(!dir.path().join("t.csv.partial").exists());
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("t.csv")).unwrap());
+    let (flipper, stable) = (rows_of(&rows, "flipper"), rows_of(&rows, "stable"));
+    assert_eq!(flipper.len(), stable.len());
+    assert_eq!(flipper.first().unwrap().t, 0.0);
+    assert!((flipper.last().unwrap().t - 0.3).abs() < 1e-12, "ends at t = {}", flipper.last().unwrap().t);
+
+    // the same without -q: the start line and the table meet the closed pipe too
+    let dir = tempfile::tempdir().unwrap();
+    let (status, stderr) = with_a_closed_stdout(dir.path(), &args[..7]);
+    assert_eq!(status, Some(0), "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    assert!(dir.path().join("t.csv").is_file());
+
+    // a reader that takes the summary whole still gets it
+    let dir = tempfile::tempdir().unwrap();
+    let output = tumble(dir.path()).args(args).output().unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(summary["stopped"], "completed");
+}
+
+#[test]
+fn the_commands_that_print_are_quiet_on_a_closed_stdout() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let path = |p: &str| root.join(p).display().to_string();
+    let commands = [
+        vec!["check".to_string(), path("scenes/demo.toml")],
+        vec!["mass".to_string(), path("crates/tumble/tests/fixtures/meshes/cube.obj")],
+        vec!["model".to_string(), path("scenes/robots/double_pendulum.urdf")],
+        vec!["model".to_string(), path("scenes/robots/double_pendulum.urdf"), "--json".to_string()],
+    ];
+    for args in commands {
+        let dir = tempfile::tempdir().unwrap();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        // the command prints something when its stdout is read
+        let output = tumble(dir.path()).args(&args).output().unwrap();
+        assert_eq!(output.status.code(), Some(0), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+        assert!(!output.stdout.is_empty(), "{args:?} prints nothing");
+        let (status, stderr) = with_a_closed_stdout(dir.path(), &args);
+        assert_eq!(status, Some(0), "{args:?}: {stderr}");
+        assert!(stderr.is_empty(), "{args:?}: {stderr}");
+    }
+}

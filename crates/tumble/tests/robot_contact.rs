@@ -491,3 +491,65 @@ fn a_robot_link_wakes_a_sleeping_box() {
     assert!(end.x > 0.71, "the strike did not move the box: it ends at x = {}", end.x);
     assert!((end - end_awake).length() < 1e-3, "sleeping moved the box's end by {} m", (end - end_awake).length());
 }
+
+/// A fixed-base rig: a 0.4 × 0.4 × 0.2 m box on its root link `base`, a plate welded to it (a
+/// fixed joint, so it moves with the world too), and a 0.1 m wheel of 1 kg turning about x on an
+/// axle through its centre: the bottom of the wheel moves only along y, so along the floor's normal
+/// its effective mass is infinite (`K_nn = 0`).
+const RIG: &str = r#"<robot name="rig">
+  <link name="base"><collision><geometry><box size="0.4 0.4 0.2"/></geometry></collision></link>
+  <link name="plate"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+    <collision><origin xyz="0 0 -0.02"/><geometry><box size="0.4 0.4 0.1"/></geometry></collision></link>
+  <joint name="weld" type="fixed"><parent link="base"/><child link="plate"/><origin xyz="1 0 0"/></joint>
+  <link name="wheel"><inertial><mass value="1"/><inertia ixx="0.004" iyy="0.004" izz="0.004"/></inertial>
+    <collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/><origin xyz="-1 0 0"/>
+    <axis xyz="1 0 0"/></joint>
+</robot>"#;
+
+/// Links that cannot move against the normal touching fixed bodies: the rig's base and plate sink
+/// 5 and 7 cm into the floor and the base 10 cm into a fixed block (pairs that both move with the
+/// world are never paired), and its spinning wheel sinks 5 cm into the floor, a contact of zero
+/// effective mass along the normal. For 1 s: no NaN, no impulse on any of them, and the wheel, which
+/// the floor can neither push nor rub (no normal impulse, so no friction), turns on at its 5 rad/s.
+#[test]
+fn links_that_cannot_move_along_the_normal_take_no_impulse_from_fixed_bodies() {
+    let text = "version = 1\n[world]\ndt = 0.001\nduration = 1.0\nintegrator = \"rk4\"\nfriction = 0.8\n\
+                [[body]]\nname = \"ground\"\nshape = { type = \"plane\" }\nfixed = true\n\
+                [[body]]\nname = \"block\"\nshape = { type = \"box\", half_extents = [0.2, 0.2, 0.2] }\nfixed = true\n\
+                position = [0.0, 0.3, 0.05]\n\
+                [[robot]]\nname = \"rig\"\nurdf = \"rig.urdf\"\nposition = [0.0, 0.0, 0.05]\nq = { axle = 0.7 }\n\
+                v = { axle = 5.0 }\n";
+    let (_dir, mut scene) = scene_with(&[("rig.urdf", RIG)], text);
+    let world = &mut scene.world;
+    let wheel = world.link_shapes_named("rig/wheel").unwrap();
+    let (mut wheel_contacts, mut other_contacts) = (0, 0);
+    for step in 0..world.config.step_count() {
+        world.step().unwrap();
+        let robot = &world.robots[0];
+        assert!(
+            robot.q().iter().chain(robot.v()).all(|x| x.is_finite()),
+            "step {step}: {:?} {:?}",
+            robot.q(),
+            robot.v()
+        );
+        let links = &world.contacts().links;
+        for (c, p) in links.contacts().iter().zip(links.impulses()) {
+            assert!(p.is_finite(), "step {step}: {c:?}: {p}");
+            assert_eq!(*p, DVec3::ZERO, "step {step}: an impulse on {c:?}");
+            match c.b {
+                Side::Link(l) if wheel.contains(&l) => wheel_contacts += 1,
+                _ => other_contacts += 1,
+            }
+        }
+    }
+    let robot = &world.robots[0];
+    eprintln!(
+        "wheel contacts {wheel_contacts}, others {other_contacts}; axle q = {}, v = {}",
+        robot.q()[0],
+        robot.v()[0]
+    );
+    assert_eq!(other_contacts, 0, "a link fixed to the world was paired with a fixed body");
+    assert_eq!(wheel_contacts, 1000, "the wheel touched the floor at every step");
+    assert_eq!(robot.v()[0], 5.0, "the floor changed the wheel's speed");
+}

@@ -377,7 +377,9 @@ impl Colliders {
         let normal_world = if normal_world.is_finite() && normal_world.length_squared() > 0.5 {
             normal_world.normalize()
         } else {
-            // a degenerate manifold (coincident centres): a fixed, deterministic fallback normal
+            // a non-finite or zero normal from parry: a fixed, deterministic fallback. Coincident
+            // centres do not come here: parry gives two spheres the first one's +y axis, two boxes
+            // a face axis (`contact_scene.rs`, coincident bodies)
             DVec3::Z
         };
         let first = out.len();

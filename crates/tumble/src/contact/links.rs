@@ -19,7 +19,9 @@
 //! give `K = (J_b − J_a) M⁻¹ (J_b − J_a)ᵀ`, not a sum; links of two robots the sum of their
 //! matrices. `K` is only positive semi-definite at a singular pose (an arm stretched along the
 //! normal): collisions use `K + ε tr(K) 1` with `ε = 1e-12` ([`SINGULAR_EPSILON`]), and the resting
-//! rows skip a direction whose `K` entry is zero.
+//! rows skip a direction whose `K` entry is below `ε tr(K)`, zero but for the round-off of `J` (a
+//! wheel touching the floor below its axle cannot move along the normal; taken as a mass, that
+//! round-off sent the wheel to 3.8e14 rad in one step).
 //!
 //! Per step, for each robot with a contact: `M(q₀)` by CRBA and its `LᵀDL` factor, each point's
 //! `J_c` and `W`, and the free acceleration `a₀ = ABA(q₀, v₀, τ(q₀, v₀))` (gravity, the joint forces
@@ -415,7 +417,12 @@ impl LinkStage {
         let knn = n.dot(k * n);
         let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
         let det = k11 * k22 - k12 * k12;
-        let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        // a direction in which the point cannot move has K = 0 up to the round-off of J (a link
+        // fixed along the normal, a wheel's contact point on its axle's plane): 1/K would turn that
+        // round-off into an unbounded impulse, so it counts as zero below ε tr(K)
+        let round_off = SINGULAR_EPSILON * (k.x_axis.x + k.y_axis.y + k.z_axis.z);
+        let tangent_mass =
+            if det > round_off * (k11 + k22) { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
         let ang = |s: RowSide, r: DVec3| match s {
             RowSide::Body(i) => [n, t1, t2].map(|d| bodies[i].inv_inertia * r.cross(d)),
             _ => [DVec3::ZERO; 3],
@@ -431,7 +438,7 @@ impl LinkStage {
             gap: c.gap,
             adjusted_gap: c.gap - n.dot(r_b - r_a),
             k,
-            normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
+            normal_mass: if knn > round_off { 1.0 / knn } else { 0.0 },
             tangent_mass,
             tangent_k: [k11, k12, k22],
             ang_a: ang(a, r_a),
