@@ -335,3 +335,52 @@ fn the_readme_examples_run() {
     assert!(dir.path().join("out/top.jsonl").is_file());
     assert_eq!(read_json(&dir.path().join("out/top.json"))["integrator"], "splitting4");
 }
+
+/// Every value of a JSON document, recursively: none may be `null` (serde_json writes NaN and inf so).
+fn assert_no_null(value: &serde_json::Value, path: &str) {
+    match value {
+        serde_json::Value::Null => panic!("{path} is null"),
+        serde_json::Value::Array(items) => {
+            items.iter().enumerate().for_each(|(i, v)| assert_no_null(v, &format!("{path}[{i}]")))
+        }
+        serde_json::Value::Object(map) => map.iter().for_each(|(k, v)| assert_no_null(v, &format!("{path}.{k}"))),
+        _ => {}
+    }
+}
+
+#[test]
+fn an_empty_or_bodiless_scene_runs_and_writes_a_header_only_trajectory() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("empty.toml"), "").unwrap();
+    fs::write(dir.path().join("none.toml"), "version = 1\n[world]\nduration = 0.01\n").unwrap();
+    for (file, warning) in [
+        ("empty.toml", "warning: empty.toml: the file is empty: a default world with no bodies"),
+        ("none.toml", "warning: none.toml: the scene has no bodies"),
+    ] {
+        let output = tumble(dir.path())
+            .args(["run", file, "--out", "t.csv", "--summary", "s.json"])
+            .assert()
+            .code(0)
+            .get_output()
+            .clone();
+        let stderr = String::from_utf8(output.stderr).unwrap();
+        assert!(stderr.starts_with(warning), "{file}: {stderr}");
+        let csv = fs::read_to_string(dir.path().join("t.csv")).unwrap();
+        assert_eq!(csv, format!("{}\n", common::HEADER), "{file}");
+        let summary_text = fs::read_to_string(dir.path().join("s.json")).unwrap();
+        assert!(!summary_text.contains("NaN") && !summary_text.contains("inf"), "{file}: {summary_text}");
+        let summary = read_json(&dir.path().join("s.json"));
+        assert_no_null(&summary, "summary");
+        assert_eq!(summary["stopped"], "completed", "{file}");
+        assert!(summary["steps"].as_u64().unwrap() > 0, "{file}: {summary}");
+
+        tumble(dir.path()).args(["run", file, "--out", "t.jsonl", "-q"]).assert().code(0);
+        let lines = fs::read_to_string(dir.path().join("t.jsonl")).unwrap();
+        assert!(lines.lines().count() > 1, "{file}: one line per sample");
+        for line in lines.lines() {
+            let sample: serde_json::Value = serde_json::from_str(line).unwrap();
+            assert_eq!(sample["bodies"], serde_json::json!([]), "{file}: {line}");
+            assert!(sample["t"].as_f64().unwrap().is_finite(), "{file}: {line}");
+        }
+    }
+}

@@ -101,6 +101,27 @@ fn bodies_listed_in_no_collide_pass_through_each_other() {
     assert_eq!(run(scene("no_collide = [\"b\"]")), 0.0, "with the filter b is never touched");
     let err = load(&scene("no_collide = [\"bb\"]")).unwrap_err();
     assert!(err.contains("body[0].no_collide") && err.contains("did you mean `b`"), "{err}");
+    // a name far from every body: the hint lists them
+    let err = load(&scene("no_collide = [\"zzzz\"]")).unwrap_err();
+    assert!(err.starts_with("test.toml:10:14: body[0].no_collide: names no body of the scene (got \"zzzz\")"), "{err}");
+    assert!(err.contains("hint: the bodies: `a`, `b`\n") || err.ends_with("hint: the bodies: `a`, `b`"), "{err}");
+}
+
+#[test]
+fn a_dangling_no_collide_name_lists_the_first_bodies_of_a_large_scene() {
+    // 1 + 3·3 = 10 bodies: the hint shows the first 8 and counts the rest
+    let text = "version = 1\n\
+        [[body]]\nname = \"a\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\nno_collide = [\"zzzz\"]\n\
+        [[grid]]\ncount = [3, 3, 1]\nspacing = [2.0, 2.0, 2.0]\norigin = [5.0, 0.0, 0.0]\n\
+        [grid.body]\nname = \"ball\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n";
+    let err = load(text).unwrap_err();
+    assert!(err.starts_with("test.toml:6:14: body[0].no_collide: names no body of the scene (got \"zzzz\")"), "{err}");
+    let hint = err.lines().find(|l| l.starts_with("hint: ")).unwrap_or_else(|| panic!("no hint: {err}"));
+    assert_eq!(
+        hint,
+        "hint: the bodies: `a`, `ball_0_0_0`, `ball_0_1_0`, `ball_0_2_0`, `ball_1_0_0`, `ball_1_1_0`, `ball_1_2_0`, \
+         `ball_2_0_0`, … and 2 more"
+    );
 }
 
 /// Two bodies `a` and `b`, the second at `position`, each written as `shape`, plus `extra` lines on `b`.

@@ -83,6 +83,38 @@ fn a_bad_mesh_is_an_error_at_the_file_key() {
     assert!(load_err(&path).contains("cannot read"), "{}", load_err(&path));
 }
 
+/// Where a scene's mesh is looked for: relative to the scene file's directory (`..` included), or
+/// an absolute path as written; no directory confines it (scenes are trusted input, as URDFs whose
+/// absolute mesh paths ROS tools write).
+#[test]
+fn u17_a_scene_mesh_is_relative_to_the_scene_file_or_absolute() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("scenes")).unwrap();
+    std::fs::copy(fixture("cube.obj"), dir.path().join("cube.obj")).unwrap();
+    let path = dir.path().join("scenes/scene.toml");
+    let mass_with = |file: &str| {
+        let text = format!(
+            "version = 1\n[[body]]\nname = \"a\"\ndensity = 2.0\nshape = {{ type = \"mesh\", file = {file:?} }}\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        let loaded = scene::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
+        loaded.world.bodies[0].mass.mass
+    };
+    // a unit cube of density 2: 2 kg, found one level up and by its absolute path
+    assert_eq!(mass_with("../cube.obj"), 2.0);
+    let absolute = dir.path().join("cube.obj");
+    assert!(absolute.is_absolute());
+    assert_eq!(mass_with(absolute.to_str().unwrap()), 2.0);
+    // relative to the scene file, not to the working directory: `cube.obj` is not beside the scene
+    std::fs::write(
+        &path,
+        "version = 1\n[[body]]\nname = \"a\"\ndensity = 2.0\nshape = { type = \"mesh\", file = \"cube.obj\" }\n",
+    )
+    .unwrap();
+    let e = load_err(&path);
+    assert!(e.contains("scene.toml:5:") && e.contains("body[0].shape.file"), "{e}");
+}
+
 #[test]
 fn an_inside_out_mesh_is_a_scene_warning() {
     let text = "version = 1\n[[body]]\nname = \"part\"\ndensity = 1.0\nshape = { type = \"mesh\", file = \"inside_out.stl\" }\n";

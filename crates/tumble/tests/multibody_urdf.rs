@@ -274,6 +274,102 @@ fn u18_extension_tags_warn_once_and_mimics_are_checked() {
     assert!(m.warnings.iter().any(|w| w.contains("refers to 'nobody'") && w.contains(":4:")), "{:?}", m.warnings);
 }
 
+/// 1-based column of `needle` in line `line` (1-based) of `text`.
+fn column(text: &str, line: usize, needle: &str) -> usize {
+    let l = text.lines().nth(line - 1).unwrap();
+    l[..l.find(needle).unwrap()].chars().count() + 1
+}
+
+#[test]
+fn u18_unknown_attributes_and_elements_warn_once_per_name() {
+    let text = robot(&[
+        link("a"),
+        // line 3: a misspelt <inertial>, which leaves `b` massless
+        r#"<link name="b"><inertail><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertail></link>"#.into(),
+        link("c"),
+        r#"<link name="d"><inertail/></link>"#.into(),
+        // line 6: `xzy` for `xyz`, which leaves the joint frame at the parent's origin
+        r#"<joint name="j1" type="continuous"><parent link="a"/><child link="b"/><origin xzy="0 0 1"/></joint>"#.into(),
+        // line 7: the same typo again (no warning), and two attributes outside the specification
+        r#"<joint name="j2" type="continuous"><parent link="b"/><child link="c"/><origin xzy="0 0 1"/>
+             <dynamics D="1" K="7000" damping="0.1"/></joint>"#
+            .into(),
+        joint("j3", "fixed", "a", "d"),
+        // every standard element and attribute, and names in a namespace: silent
+        r#"<link name="e" xmlns:x="urn:ext" x:colour="red"><inertial><origin xyz="0 0 0" rpy="0 0 0"/><mass value="1"/>
+             <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+           <visual name="v"><origin xyz="0 0 0"/><geometry><cylinder radius="0.1" length="0.2"/></geometry>
+             <material name="grey"><color rgba="0.5 0.5 0.5 1"/><texture filename="t.png"/></material></visual>
+           <collision name="c"><geometry><sphere radius="0.1"/></geometry></collision>
+           <x:sensor kind="camera"/></link>"#
+            .into(),
+        r#"<joint name="j4" type="revolute"><parent link="a"/><child link="e"/><origin xyz="0 0 1" rpy="0 0 0"/>
+             <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+             <dynamics damping="0.1" friction="0.1"/><calibration rising="0.1" falling="0.2"/>
+             <mimic joint="j2" multiplier="1" offset="0"/>
+             <safety_controller soft_lower_limit="-0.9" soft_upper_limit="0.9" k_position="10" k_velocity="1"/></joint>"#
+            .into(),
+    ]);
+    let model = parse(&text).unwrap();
+    let w = &model.warnings;
+    assert_eq!(w.len(), 3, "{w:#?}");
+    let inertail = format!(
+        "robot.urdf:3:{}: link 'b': ignored <inertail> (did you mean <inertial>?) in <link>: not a URDF element there",
+        column(&text, 3, "<inertail>")
+    );
+    let xzy = format!(
+        "robot.urdf:6:{}: joint 'j1': unknown attribute 'xzy' (did you mean 'xyz'?) on <origin>, ignored",
+        column(&text, 6, "xzy=")
+    );
+    assert_eq!(w[0], inertail);
+    assert_eq!(w[1], xzy);
+    let dynamics = format!(
+        "robot.urdf:8:{}: joint 'j2': unknown attributes 'D', 'K' on <dynamics>, ignored",
+        column(&text, 8, "D=")
+    );
+    assert_eq!(w[2], dynamics);
+    // what the typos did: `b` has no mass and `j1` no offset
+    let b = model.frame_index("b").unwrap();
+    assert_eq!(model.frames[b].inertia.mass, 0.0);
+    assert_eq!(model.bodies[model.joint_index("j1").unwrap()].joint.x_tree.r, DVec3::ZERO);
+}
+
+#[test]
+fn u14_a_radius_of_gyration_far_beyond_the_link_is_a_warning() {
+    // link `b`: mass 1, moments `i` about its centre of mass, `geometry` beside the inertial
+    let with_b = |i: f64, geometry: &str| {
+        robot(&[
+            link("a"),
+            format!(
+                r#"<link name="b"><inertial><mass value="1"/><inertia ixx="{i}" iyy="{i}" izz="{i}"/></inertial>{geometry}</link>"#
+            ),
+            joint("j", "continuous", "a", "b"),
+        ])
+    };
+    let cube = r#"<collision><origin xyz="0.3 0 0"/><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+    // √(100 / 1) = 10 m against a 0.1 m cube (half-diagonal 0.0866 m)
+    let text = with_b(100.0, cube);
+    let model = parse(&text).unwrap();
+    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
+    let w = &model.warnings[0];
+    let at = format!("robot.urdf:3:{}: link 'b': radius of gyration 1.000e1 m", column(&text, 3, "<inertia "));
+    assert!(w.starts_with(&at), "{w}");
+    assert!(w.contains("more than 10 times the half-diagonal 8.660e-2 m of its collision geometry"), "{w}");
+    // the factor: 0.9 m is over 10 × 0.0866 m, 0.8 m is not; a solid 0.1 m cube (0.0408 m) is far below
+    assert_eq!(parse(&with_b(0.81, cube)).unwrap().warnings.len(), 1);
+    for i in [0.64, 1.0 / 600.0] {
+        assert!(parse(&with_b(i, cube)).unwrap().warnings.is_empty(), "{i}");
+    }
+    // the bounding box holds every collision geometry (a second one 2 m away) and ignores visuals
+    let far = r#"<collision><origin xyz="-1.7 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>"#;
+    assert!(parse(&with_b(100.0, &format!("{cube}{far}"))).unwrap().warnings.is_empty());
+    let visual = cube.replace("collision>", "visual>");
+    // no collision geometry: nothing to compare with, no warning
+    for geometry in ["", visual.as_str()] {
+        assert!(parse(&with_b(100.0, geometry)).unwrap().warnings.is_empty(), "{geometry}");
+    }
+}
+
 /// A chain of 10⁵ links loads and every algorithm runs on it (no recursion anywhere).
 #[test]
 fn u19_a_chain_of_100000_links() {

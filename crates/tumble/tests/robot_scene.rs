@@ -387,6 +387,74 @@ fn bad_robot_entries_name_the_file_line_and_field() {
 }
 
 #[test]
+fn robot_nan_and_inf_are_rejected_at_their_key() {
+    // each case: the `[[robot]]` line (line 7 of the scene), what the error holds, the value it points at
+    let cases = [
+        ("orientation = [nan, 0.0, 0.0, 0.0]", "robot[0].orientation: must be finite (a quaternion [w, x, y, z])", "["),
+        ("torque = { pivot = nan }", "robot[0].torque.pivot: must be finite (got [NaN])", "nan"),
+        ("pd = { pivot = { target = nan, kp = 1.0 } }", "robot[0].pd.pivot.target: must be finite (got NaN)", "nan"),
+        (
+            "pd = { pivot = { target = 0.0, kp = 1.0, target_velocity = inf } }",
+            "robot[0].pd.pivot.target_velocity: must be finite (got inf)",
+            "inf",
+        ),
+        ("friction = nan", "robot[0].friction: must be finite and ≥ 0 (got NaN)", "nan"),
+        ("friction = -0.1", "robot[0].friction: must be finite and ≥ 0 (got -0.1)", "-"),
+        ("restitution = nan", "robot[0].restitution: must be in [0, 1] (got NaN)", "nan"),
+        ("restitution = 1.5", "robot[0].restitution: must be in [0, 1] (got 1.5)", "1.5"),
+        ("q = { pivot = inf }", "robot[0].q.pivot: must be finite (got [inf])", "inf"),
+    ];
+    for (line, problem, value) in cases {
+        let e = robot_error(line);
+        let at = format!("scene.toml:7:{}: {problem}", line.find(value).unwrap() + 1);
+        assert!(e.contains(&at), "{line}: {e}");
+    }
+}
+
+#[test]
+fn robot_no_collide_names_are_checked_with_or_without_collision_geometry() {
+    // the pendulum has no collision geometry: its names are checked all the same
+    let e = robot_error("no_collide = [[\"bob\", \"ghost\"]]");
+    assert!(e.contains("scene.toml:7:14: robot[0].no_collide: names no link of robot `p` (got \"ghost\")"), "{e}");
+    assert!(e.ends_with("hint: its links: `base`, `bob`"), "{e}");
+    let e = robot_error("no_collide = [[\"bb\"]]");
+    assert!(e.contains("robot[0].no_collide: names no link of robot `p` (got \"bb\")"), "{e}");
+    assert!(e.ends_with("hint: did you mean `bob`?"), "{e}");
+    // a link without collision geometry touches nothing: naming it is a warning, not an error
+    let (_dir, loaded) = pendulum_scene("", "no_collide = [[\"bob\"]]");
+    let warnings = loaded.unwrap().warnings;
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("scene.toml:7:14: robot[0].no_collide: link `bob` of robot `p` has no collision"));
+
+    // the same pendulum with a box on `bob`
+    let dir = tempfile::tempdir().unwrap();
+    let boxed = PENDULUM.replace(
+        "<inertia ixx=\"0.02\" iyy=\"0.02\" izz=\"0.01\"/></inertial>",
+        "<inertia ixx=\"0.02\" iyy=\"0.02\" izz=\"0.01\"/></inertial>\n    \
+         <collision><origin xyz=\"0 0 -0.5\"/><geometry><box size=\"0.1 0.1 0.1\"/></geometry></collision>",
+    );
+    assert_ne!(boxed, PENDULUM);
+    std::fs::write(dir.path().join("boxed.urdf"), boxed).unwrap();
+    let path = dir.path().join("scene.toml");
+    let load = |no_collide: &str| {
+        let text = format!("version = 1\n[[robot]]\nname = \"p\"\nurdf = \"boxed.urdf\"\nno_collide = {no_collide}\n");
+        std::fs::write(&path, text).unwrap();
+        scene::load(&path)
+    };
+    let ok = load("[[\"bob\"]]").unwrap();
+    assert!(ok.warnings.is_empty(), "{:?}", ok.warnings);
+    assert_eq!(ok.world.contacts().links.colliders.links().len(), 1);
+    let e = load("[[\"bob\", \"ghost\"]]").unwrap_err().to_string();
+    assert!(e.contains("scene.toml:5:14: robot[0].no_collide: names no link of robot `p` (got \"ghost\")"), "{e}");
+    assert!(e.ends_with("hint: its links: `base`, `bob`"), "{e}");
+    let e = load("[[\"bb\"]]").unwrap_err().to_string();
+    assert!(e.ends_with("hint: did you mean `bob`?"), "{e}");
+    let warned = load("[[\"base\", \"bob\"]]").unwrap();
+    assert_eq!(warned.warnings.len(), 1, "{:?}", warned.warnings);
+    assert!(warned.warnings[0].contains("robot[0].no_collide: link `base` of robot `p` has no collision geometry"));
+}
+
+#[test]
 fn missing_and_broken_urdf_files_are_reported_with_their_positions() {
     let dir = tempfile::tempdir().unwrap();
     let scene_text = |urdf: &str| format!("version = 1\n[[robot]]\nname = \"r\"\nurdf = \"{urdf}\"\n");

@@ -376,3 +376,71 @@ fn every_example_robot_data_urdf_loads_with_the_listed_flags() {
     }
     eprintln!("{} URDFs of {} loaded", rows.len(), root.display());
 }
+
+/// Every URDF the tests and scenes load (ten robots of example-robot-data and the scenes' own):
+/// the names outside the URDF vocabulary inside links and joints are the vendors' extensions
+/// listed here, one warning each, and the only links whose radius of gyration is beyond 10 times
+/// their primitive collision geometry are TIAGo's 34 hand links, whose inertias the file itself says
+/// are inflated ("To stabilize simulation": 0.001 kg·m² on 0.01–0.05 kg, around 1–2 mm spheres and
+/// boxes).
+#[test]
+fn real_robots_warn_only_about_vendor_extensions_and_tiagos_inflated_hand_inertias() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in [root.join("tests/fixtures/robots"), root.join("../../scenes/robots")] {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "urdf") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() >= 15, "{files:?}");
+    let franka = "joint 'panda_joint1': unknown attributes 'D', 'K', 'mu_coulomb', 'mu_viscous' on <dynamics>, ignored";
+    let extensions: [(&str, &[&str]); 6] = [
+        ("anymal_c.urdf", &["link 'base': ignored <self_filter> in <link>: not a URDF element there"]),
+        ("panda.urdf", &[franka]),
+        ("panda_collision.urdf", &[franka]),
+        (
+            "pr2.urdf",
+            &[
+                "link 'base_laser_link': unknown attribute 'type' on <link>, ignored",
+                "link 'r_gripper_palm_link': ignored <verbose> in <collision>: not a URDF element there",
+            ],
+        ),
+        ("solo12.urdf", &["link 'base_link': ignored <contact> in <link>: not a URDF element there"]),
+        (
+            "tiago_dual.urdf",
+            &[
+                "link 'base_link': ignored <material> in <collision>: not a URDF element there",
+                "link 'suspension_right_link': ignored <kinematic>, <gravity> in <link>: not URDF elements there",
+            ],
+        ),
+    ];
+    let options = UrdfOptions { balance_inertia: true, massless: Massless::Allow, ..UrdfOptions::default() };
+    let mut gyration_links = Vec::new();
+    for path in &files {
+        let name = path.file_name().unwrap().to_str().unwrap();
+        let model = load_urdf(path, options).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let vocabulary: Vec<&str> = model
+            .warnings
+            .iter()
+            .filter(|w| w.contains("unknown attribute") || w.contains("URDF element"))
+            .map(|w| w.split_once(": ").unwrap().1)
+            .collect();
+        let expected = extensions.iter().find(|(f, _)| *f == name).map_or(&[][..], |(_, w)| *w);
+        assert_eq!(vocabulary, expected, "{name}");
+        for w in model.warnings.iter().filter(|w| w.contains("radius of gyration")) {
+            let link = w.split("link '").nth(1).unwrap().split('\'').next().unwrap();
+            let number =
+                |after: &str| -> f64 { w.split(after).nth(1).unwrap().split(' ').next().unwrap().parse().unwrap() };
+            let ratio = number("radius of gyration ") / number("half-diagonal ");
+            eprintln!("{name}: link '{link}': radius of gyration / half-diagonal = {ratio:.1}");
+            assert!(ratio > 30.0, "{w}");
+            gyration_links.push(format!("{name}/{link}"));
+        }
+    }
+    assert_eq!(gyration_links.len(), 34, "{gyration_links:#?}");
+    assert!(gyration_links.iter().all(|l| l.starts_with("tiago_dual.urdf/hand_")), "{gyration_links:#?}");
+}

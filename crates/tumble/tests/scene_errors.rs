@@ -164,6 +164,46 @@ fn s07_every_float_is_checked_to_be_finite() {
     let m =
         toml_error(&format!("{BODY}mass = 1.0\nshape = {{ type = \"capsule\", radius = 0.1, half_height = nan }}\n"));
     assert_has(&m, &["bad.toml:5:57: body[0].shape.half_height", "(got NaN)"]);
+    // keys read by shared helpers: each at its own path, line and column
+    let col = |line: &str, needle: &str| line.find(needle).unwrap() + 1;
+    for key in ["force", "force_body"] {
+        let m = toml_error(&format!(
+            "{BODY}{dynamic}[[body.point_force]]\npoint = [1.0, 0.0, 0.0]\n{key} = [nan, 0.0, 0.0]\n"
+        ));
+        let at = format!("bad.toml:8:{}: body[0].point_force[0].{key}: must be finite", key.len() + 4);
+        assert_has(&m, &[&at, "(got [NaN, 0, 0])"]);
+    }
+    for (key, value) in [("position", "[nan, 0.0, 0.0]"), ("orientation", "[inf, 0.0, 0.0, 0.0]")] {
+        let line = format!("shapes = [{{ type = \"sphere\", radius = 1.0, {key} = {value} }}]");
+        let m = toml_error(&format!("{BODY}mass = 1.0\n{line}\n"));
+        let at = format!("bad.toml:5:{}: body[0].shapes[0].{key}: must be finite", col(&line, value));
+        assert_has(&m, &[&at]);
+    }
+    let m = toml_error(
+        "version = 1\n[[grid]]\ncount = [1, 1, 1]\nspacing = [1.0, 1.0, 1.0]\norigin = [nan, 0.0, 0.0]\n\
+         [grid.body]\nname = \"g\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n",
+    );
+    assert_has(&m, &["bad.toml:5:10: grid[0].origin: must be finite", "(got [NaN, 0, 0])"]);
+    let line = "shape = { type = \"mesh\", file = \"cube.stl\", scale = nan }";
+    let m = toml_error(&format!("{BODY}mass = 1.0\n{line}\n"));
+    let at = format!("bad.toml:5:{}: body[0].shape.scale: mesh scale must be finite and > 0", col(line, "nan"));
+    assert_has(&m, &[&at, "(got [NaN, NaN, NaN])"]);
+    for key in [
+        "restitution",
+        "friction",
+        "impact_speed",
+        "contact_slop",
+        "contact_hertz",
+        "contact_damping_ratio",
+        "max_correction_speed",
+        "sleep_speed",
+        "sleep_time",
+    ] {
+        for value in ["nan", "inf"] {
+            let m = toml_error(&format!("version = 1\n[world]\n{key} = {value}\n"));
+            assert_has(&m, &[&format!("bad.toml:3:{}: world.{key}: must be finite", key.len() + 4)]);
+        }
+    }
 }
 
 #[test]

@@ -46,6 +46,7 @@ pub mod rnea;
 pub mod simulate;
 pub mod spatial;
 pub mod urdf;
+mod urdf_vocabulary;
 pub mod workspace;
 
 pub use aba::{aba, AbaError};

@@ -30,6 +30,11 @@
 //! [`UrdfOptions::keep_triangle_violations`] keeps it (one warning per link), and movable joints
 //! whose subtree has no mass unless [`Massless::Fuse`] holds them (one warning per joint). A mimic naming no joint is a warning (mimic joints are independent joints).
 //!
+//! Warnings, loading continuing: unknown top-level tags (once per tag), an attribute or element
+//! inside `<link>` or `<joint>` that the specification does not define (`urdf_vocabulary`, once
+//! per element and name), a link whose radius of gyration is more than [`GYRATION_FACTOR`] times
+//! the half-diagonal of its primitive collision geometry's bounding box.
+//!
 //! Cases that real robots use are accepted: `mass = 0` with an all-zero tensor is a massless link
 //! (a frame, like `ee_link` of UR5 or `panda_link8`), `mass > 0` with an all-zero tensor is a point
 //! mass (like Talos's `rgbd_optical_frame`), a tensor with one zero moment is a thin rod, and a
@@ -39,13 +44,23 @@ use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
 use super::model::{FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, ModelBuilder, ModelError, MultibodyModel};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
-use crate::math::{DMat3, DVec3};
+use crate::body::mass::symmetric_eigen;
+use crate::math::{skew, DMat3, DVec3};
 use roxmltree::{Document, Node};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Component, Path, PathBuf};
 
 /// Files larger than this are refused before reading (bytes).
 pub const MAX_URDF_BYTES: u64 = 64 << 20;
+
+/// A link whose radius of gyration exceeds this many times the half-diagonal of its collision
+/// geometry's bounding box gets a warning. Mass that lies inside a box of half-diagonal `h` has
+/// its centre of mass inside it too, so each particle is within `2h` of it and `λ_max ≤ Σ mᵢ |pᵢ − c|²
+/// ≤ m (2h)²`: the radius of gyration is at most `2h` (a uniform cube's is `0.47 h`, a thin spherical
+/// shell's `0.47 h`, a hoop's `0.71 h`). 10 leaves room for collision geometry smaller than the part
+/// and still catches unit mistakes (g·mm² read as kg·m² is a factor 10⁹ on the moment, 3·10⁴ on the
+/// radius).
+pub const GYRATION_FACTOR: f64 = 10.0;
 
 /// An error in a URDF file, with its position.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -302,7 +317,12 @@ impl<'a, 'input> Parser<'a, 'input> {
         let mut link_index: HashMap<&str, usize> = HashMap::new();
         let mut joint_nodes: Vec<Node> = Vec::new();
         let mut geometries: Vec<LinkGeometry> = Vec::new();
+        // (element, name) pairs already warned about as unknown inside links and joints
+        let mut unknown_seen = HashSet::new();
         for node in root.children().filter(|n| n.is_element()) {
+            if matches!(node.tag_name().name(), "link" | "joint") && node.tag_name().namespace().is_none() {
+                super::urdf_vocabulary::check(self.doc, self.file, node, &mut unknown_seen, &mut warnings);
+            }
             match node.tag_name().name() {
                 "link" => {
                     let name = self.attr(node, "name")?;
@@ -313,7 +333,9 @@ impl<'a, 'input> Parser<'a, 'input> {
                         );
                     }
                     let inertia = self.inertial(node, name, &mut warnings)?;
+                    let first_geometry = geometries.len();
                     self.geometries(node, name, &mut geometries, &mut warnings);
+                    self.check_gyration(node, name, &inertia, &geometries[first_geometry..], &mut warnings);
                     link_index.insert(name, links.len());
                     links.push(Link { node, name, inertia });
                 }
@@ -578,6 +600,63 @@ impl<'a, 'input> Parser<'a, 'input> {
                 Ok(shape) => geometries.push(LinkGeometry { link: name.into(), role, x_from_link, shape, line }),
                 Err(why) => skip(warnings, why),
             }
+        }
+    }
+
+    /// A warning when the link's radius of gyration, `sqrt(λ_max / m)` with `λ_max` the largest
+    /// principal moment about the centre of mass, exceeds [`GYRATION_FACTOR`] times the half-diagonal
+    /// of the bounding box of its collision geometry (in the link frame): no body of that size turns
+    /// so slowly, so the inertia is most likely in the wrong units (g·mm², or a tensor about another
+    /// point). Only primitive geometry is measured: a link with no collision geometry, or whose
+    /// collision geometry includes a mesh (meshes are not read here), is not checked.
+    fn check_gyration(
+        &self,
+        link: Node,
+        name: &str,
+        inertia: &RigidInertia,
+        geometries: &[LinkGeometry],
+        warnings: &mut Vec<String>,
+    ) {
+        let collision: Vec<&LinkGeometry> = geometries.iter().filter(|g| g.role == GeometryRole::Collision).collect();
+        if inertia.mass <= 0.0 || collision.is_empty() {
+            return;
+        }
+        let (mut lo_link, mut hi_link) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for g in collision {
+            // the half extents of the shape's own bounding box, in its frame
+            let half = match &g.shape {
+                GeometryShape::Box { half_extents } => *half_extents,
+                GeometryShape::Sphere { radius } => DVec3::splat(*radius),
+                GeometryShape::Cylinder { radius, half_length } => DVec3::new(*radius, *radius, *half_length),
+                GeometryShape::Mesh { .. } => return,
+            };
+            for k in 0..8 {
+                let sign = DVec3::new(
+                    if k & 1 == 0 { -1.0 } else { 1.0 },
+                    if k & 2 == 0 { -1.0 } else { 1.0 },
+                    if k & 4 == 0 { -1.0 } else { 1.0 },
+                );
+                // geometry_X_link: a corner in geometry coordinates, expressed in the link frame
+                let corner_link = g.x_from_link.inv_apply_point(sign * half);
+                lo_link = lo_link.min(corner_link);
+                hi_link = hi_link.max(corner_link);
+            }
+        }
+        let half_diagonal = 0.5 * (hi_link - lo_link).length();
+        // Ī_c = Ī_o − m c̃ c̃ᵀ (parallel-axis theorem, Featherstone 2.63)
+        let c = skew(inertia.com());
+        let inertia_com = inertia.i_o - inertia.mass * (c * c.transpose());
+        let (moments, _) = symmetric_eigen(inertia_com);
+        let radius = (moments.max_element().max(0.0) / inertia.mass).sqrt();
+        if radius > GYRATION_FACTOR * half_diagonal {
+            let at = child(link, "inertial").and_then(|i| child(i, "inertia")).unwrap_or(link);
+            let pos = self.doc.text_pos_at(at.range().start);
+            warnings.push(format!(
+                "{}:{}:{}: link '{}': radius of gyration {:.3e} m (sqrt(largest principal moment / mass)) is more than \
+                 {GYRATION_FACTOR} times the half-diagonal {:.3e} m of its collision geometry's bounding box: is the \
+                 inertia in kg·m² and about the centre of mass?",
+                self.file, pos.row, pos.col, name, radius, half_diagonal
+            ));
         }
     }
 

@@ -2,7 +2,7 @@
 //! and the grids.
 
 use super::body::BodyReader;
-use super::error::{nearest, num, nums, SceneError, Source};
+use super::error::{names_hint, nearest, num, nums, SceneError, Source};
 use super::grid;
 use super::schema::{Loc, SceneDoc, Table, WorldDoc};
 use super::{Format, Scene};
@@ -296,12 +296,20 @@ fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<
                 continue;
             }
             let Some(j) = world.body_index(name) else {
-                let names: Vec<&str> = world.bodies.iter().map(|b| b.name.as_str()).collect();
+                // the bodies, then the robots' links with collision geometry (`robot/link`)
+                let colliders = world.contacts().links.colliders.links();
+                let mut names: Vec<&str> = world.bodies.iter().map(|b| b.name.as_str()).collect();
+                for c in colliders {
+                    if !names.contains(&c.name.as_str()) {
+                        names.push(c.name.as_str());
+                    }
+                }
                 let e = src
                     .error(list.span.as_ref(), format!("body[{i}].no_collide"), "names no body of the scene")
                     .got(format!("\"{name}\""));
-                return Err(match nearest(name, &names) {
-                    Some(best) => e.hint(format!("did you mean `{best}`?")),
+                let what = if colliders.is_empty() { "the bodies" } else { "the bodies and robot links" };
+                return Err(match names_hint(name, what, &names) {
+                    Some(hint) => e.hint(hint),
                     None => e,
                 });
             };

@@ -262,6 +262,25 @@ pub(crate) fn nearest<'c>(word: &str, candidates: &[&'c str]) -> Option<&'c str>
         .map(|(_, _, c)| c)
 }
 
+/// How many names a hint lists when none is close to the one given.
+pub(crate) const LISTED_NAMES: usize = 8;
+
+/// The hint for a name that matches none of `candidates`: the nearest one when it is close
+/// (`did you mean `b`?`), else the first [`LISTED_NAMES`] of them and how many more, introduced by
+/// `what` (e.g. "the bodies"); `None` when there is no candidate.
+pub(crate) fn names_hint(word: &str, what: &str, candidates: &[&str]) -> Option<String> {
+    if let Some(best) = nearest(word, candidates) {
+        return Some(format!("did you mean `{best}`?"));
+    }
+    if candidates.is_empty() {
+        return None;
+    }
+    let shown: Vec<String> = candidates.iter().take(LISTED_NAMES).map(|n| format!("`{n}`")).collect();
+    let more = candidates.len().saturating_sub(LISTED_NAMES);
+    let tail = if more > 0 { format!(", … and {more} more") } else { String::new() };
+    Some(format!("{what}: {}{tail}", shown.join(", ")))
+}
+
 /// A float as written in messages (`NaN`, `inf`, `-1`, `0.25`).
 pub(crate) fn num(x: f64) -> String {
     format!("{x}")

@@ -17,7 +17,7 @@
 //! tensor that is not positive definite is an error whose hint names `balance_inertia = true` and
 //! `lock`; a massless moving subtree is an error whose hint names `lock`.
 
-use super::error::{nearest, num, nums, SceneError, Source};
+use super::error::{names_hint, nearest, num, nums, SceneError, Source};
 use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::math::{DMat3, DQuat, DVec3};
@@ -604,6 +604,10 @@ fn quoted(names: &[&str]) -> String {
 /// The collision geometry of every robot whose `collision` is on (the default): its URDF
 /// `<collision>` shapes, self-collision when asked, and its `no_collide` pairs. A link is named
 /// `robot/link`; a body's `no_collide` may name one.
+///
+/// `no_collide` is checked even when the robot has no collision geometry: a name that is no link of
+/// the URDF is an error (with the nearest link, or a list of them); a link without `<collision>`
+/// touches nothing already, so naming it is a warning that the entry has no effect.
 pub(crate) fn robot_collisions(
     src: &Source,
     entries: &[Loc<Table<RobotDoc>>],
@@ -636,11 +640,9 @@ pub(crate) fn robot_collisions(
                         "`collision = false` loads the robot without its collision geometry (it then touches nothing)",
                     )
                 })?;
-        if shapes.is_empty() {
-            continue;
-        }
-        let ids = world.add_link_shapes(i, &shapes);
-        if doc.self_collision.as_ref().is_some_and(|b| b.value) {
+        // with no collision geometry there is nothing to add, but `no_collide`'s names are checked
+        let ids = if shapes.is_empty() { Vec::new() } else { world.add_link_shapes(i, &shapes) };
+        if !shapes.is_empty() && doc.self_collision.as_ref().is_some_and(|b| b.value) {
             for (a, b) in world.enable_self_collision(i) {
                 warnings.push(src.warning(
                     doc.self_collision.as_ref().and_then(|l| l.span.as_ref()),
@@ -655,28 +657,33 @@ pub(crate) fn robot_collisions(
             let full = format!("{robot_name}/{link}");
             ids.iter().copied().filter(|&l| world.contacts().links.colliders.links()[l].name == full).collect()
         };
+        let key = format!("{path}.no_collide");
         for group in &list.value {
             let named: Result<Vec<Vec<usize>>, SceneError> = group
                 .iter()
                 .map(|link| {
                     let found = links_named(world, link);
-                    if found.is_empty() {
-                        let model = &world.robots[i].model;
-                        let names: Vec<&str> = model.frames.iter().map(|f| f.name.as_str()).collect();
-                        let e = src
-                            .error(
-                                list.span.as_ref(),
-                                format!("{path}.no_collide"),
-                                "names no link with collision geometry",
-                            )
-                            .got(format!("\"{link}\""));
-                        Err(match nearest(link, &names) {
-                            Some(best) => e.hint(format!("did you mean `{best}`?")),
-                            None => e,
-                        })
-                    } else {
-                        Ok(found)
+                    if !found.is_empty() {
+                        return Ok(found);
                     }
+                    let model = &world.robots[i].model;
+                    if model.frame_index(link).is_some() {
+                        // a link without `<collision>` touches nothing: the entry changes nothing
+                        let text = format!(
+                            "link `{link}` of robot `{robot_name}` has no collision geometry: it touches nothing, \
+                             and this entry has no effect"
+                        );
+                        warnings.push(src.warning(list.span.as_ref(), &key, &text));
+                        return Ok(Vec::new());
+                    }
+                    let names: Vec<&str> = model.frames.iter().map(|f| f.name.as_str()).collect();
+                    let e = src
+                        .error(list.span.as_ref(), key.clone(), format!("names no link of robot `{robot_name}`"))
+                        .got(format!("\"{link}\""));
+                    Err(match names_hint(link, "its links", &names) {
+                        Some(hint) => e.hint(hint),
+                        None => e,
+                    })
                 })
                 .collect();
             let named = named?;
