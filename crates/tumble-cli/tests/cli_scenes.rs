@@ -112,7 +112,7 @@ fn a_run_over_the_contact_budget_is_exit_3_and_its_output_stays_valid() {
     // every sample up to the last step taken, the last one included, all four balls in each
     let rows = parse_csv(&fs::read_to_string(dir.path().join("t.csv")).unwrap());
     let times: Vec<f64> = rows_of(&rows, "east").iter().map(|r| r.t).collect();
-    assert_eq!(times.len() as u64, steps / 10 + 1 + u64::from(steps % 10 != 0));
+    assert_eq!(times.len() as u64, steps / 10 + 1 + u64::from(!steps.is_multiple_of(10)));
     assert_eq!(*times.last().unwrap(), steps as f64 * 0.01);
     assert_eq!(rows.len(), 4 * times.len());
     let mut names = files(dir.path());
