@@ -70,6 +70,7 @@ pub fn table(
     let stopped = match s.stopped {
         StopReason::Completed => "",
         StopReason::Diverged => " (diverged)",
+        StopReason::ContactBudget => " (contact budget exceeded)",
         StopReason::Interrupted => " (interrupted)",
         StopReason::WallTimeLimit => " (stopped at the wall-time limit)",
     };

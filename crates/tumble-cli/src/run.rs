@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use tumble::scene::{self, Scene};
 use tumble::trajectory::{ContactWriter, Format, Monitor, StopReason, Summary, TrajectoryError, TrajectoryWriter};
-use tumble::world::Diverged;
+use tumble::world::StepError;
 use tumble::World;
 
 /// Default directory of trajectories when `--out` is not given.
@@ -177,7 +177,8 @@ fn apply_overrides(scene: &mut Scene, args: &RunArgs) -> Result<(), Failure> {
 #[derive(Debug)]
 pub enum Stop {
     Completed,
-    Diverged(Diverged),
+    /// A body diverged, or the broad phase went over the pair budget (`[world] max_pairs`).
+    Diverged(StepError),
     Interrupted,
     WallTimeLimit,
 }
@@ -357,6 +358,9 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
             return Err(loop_failure(e, written, contacts_written));
         }
     };
+    if let (Some(rise), false) = (outcome.monitor.instability(), quiet) {
+        let _ = writeln!(std::io::stderr().lock(), "warning: {rise}");
+    }
     if let Err(e) = trajectory_out.commit() {
         summary_out.into_iter().chain(contacts_out).for_each(OutputFile::discard);
         return Err(Failure::output(cannot_write(&out, &e)));
@@ -370,7 +374,8 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
 
     let reason = match outcome.stop {
         Stop::Completed => StopReason::Completed,
-        Stop::Diverged(_) => StopReason::Diverged,
+        Stop::Diverged(StepError::Diverged(_)) => StopReason::Diverged,
+        Stop::Diverged(StepError::ContactBudget(_)) => StopReason::ContactBudget,
         Stop::Interrupted => StopReason::Interrupted,
         Stop::WallTimeLimit => StopReason::WallTimeLimit,
     };
@@ -386,7 +391,12 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
     let t = world.time();
     match outcome.stop {
         Stop::Completed => Ok(Status::Success),
-        Stop::Diverged(d) => Err(Failure::diverged(format!(
+        Stop::Diverged(StepError::ContactBudget(b)) => Err(Failure::diverged(format!(
+            "{b}\nthe trajectory up to t = {t} s (step {}) is in '{}'",
+            world.steps(),
+            out.display()
+        ))),
+        Stop::Diverged(StepError::Diverged(d)) => Err(Failure::diverged(format!(
             "{d}\nthe trajectory up to t = {t} s (step {}, the last finite state) is in '{}'",
             world.steps(),
             out.display()

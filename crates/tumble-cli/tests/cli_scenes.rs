@@ -78,6 +78,61 @@ fn a_diverging_run_is_exit_3_naming_body_quantity_step_and_time_and_its_output_s
     assert_eq!(names, ["runaway.toml", "s.json", "t.csv"].map(PathBuf::from), "no .partial left");
 }
 
+/// Four balls moving towards one point with a pair budget of 3 (`[world] max_pairs`): the step at
+/// which their four pairs appear goes over it.
+const CONVERGING: &str = "version = 1\n[world]\ngravity = [0.0, 0.0, 0.0]\ndt = 0.01\nduration = 4.0\n\
+                          sample_every = 10\nmax_pairs = 3\n\
+                          [[body]]\nname = \"east\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n\
+                          position = [3.0, 0.0, 0.0]\nvelocity = [-1.0, 0.0, 0.0]\n\
+                          [[body]]\nname = \"west\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n\
+                          position = [-3.0, 0.0, 0.0]\nvelocity = [1.0, 0.0, 0.0]\n\
+                          [[body]]\nname = \"north\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n\
+                          position = [0.0, 3.0, 0.0]\nvelocity = [0.0, -1.0, 0.0]\n\
+                          [[body]]\nname = \"south\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n\
+                          position = [0.0, -3.0, 0.0]\nvelocity = [0.0, 1.0, 0.0]\n";
+
+#[test]
+fn a_run_over_the_contact_budget_is_exit_3_and_its_output_stays_valid() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("c.toml"), CONVERGING).unwrap();
+    let output = tumble(dir.path())
+        .args(["run", "c.toml", "--out", "t.csv", "--summary", "s.json", "-q"])
+        .assert()
+        .code(3)
+        .get_output()
+        .clone();
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(stderr.starts_with("error: contact budget exceeded at step "), "{stderr}");
+    assert!(stderr.contains("4 candidate pairs, more than the budget of 3"), "{stderr}");
+    assert!(stderr.contains("t.csv"), "{stderr}");
+    let summary = read_json(&dir.path().join("s.json"));
+    assert_eq!(summary["stopped"], "contact_budget");
+    let steps = summary["steps"].as_u64().unwrap();
+    assert!(stderr.contains(&format!("at step {} (t = ", steps + 1)), "{stderr}");
+    // every sample up to the last step taken, the last one included, all four balls in each
+    let rows = parse_csv(&fs::read_to_string(dir.path().join("t.csv")).unwrap());
+    let times: Vec<f64> = rows_of(&rows, "east").iter().map(|r| r.t).collect();
+    assert_eq!(times.len() as u64, steps / 10 + 1 + u64::from(!steps.is_multiple_of(10)));
+    assert_eq!(*times.last().unwrap(), steps as f64 * 0.01);
+    assert_eq!(rows.len(), 4 * times.len());
+    let mut names = files(dir.path());
+    names.sort();
+    assert_eq!(names, ["c.toml", "s.json", "t.csv"].map(PathBuf::from), "no .partial left");
+}
+
+/// 20,000 balls at one spot (`spacing = [0, 0, 0]`): refused at load, nothing written.
+#[test]
+fn a_grid_at_one_spot_is_exit_2_naming_its_spacing() {
+    let dir = tempfile::tempdir().unwrap();
+    let heap = "version = 1\n[[grid]]\ncount = [20, 20, 50]\nspacing = [0.0, 0.0, 0.0]\n\
+                [grid.body]\nname = \"ball\"\nmass = 1.0\nshape = { type = \"sphere\", radius = 0.5 }\n";
+    fs::write(dir.path().join("heap.toml"), heap).unwrap();
+    tumble(dir.path()).args(["run", "heap.toml", "--out", "t.csv"]).assert().code(2).stderr(
+        contains("heap.toml:4:11: grid[0].spacing").and(contains("all at one spot")).and(contains("max_pairs")),
+    );
+    assert_eq!(files(dir.path()), [PathBuf::from("heap.toml")]);
+}
+
 #[test]
 fn a_diverging_run_in_json_lines_stays_valid() {
     let dir = tempfile::tempdir().unwrap();
@@ -382,5 +437,38 @@ fn an_empty_or_bodiless_scene_runs_and_writes_a_header_only_trajectory() {
             assert_eq!(sample["bodies"], serde_json::json!([]), "{file}: {line}");
             assert!(sample["t"].as_f64().unwrap().is_finite(), "{file}: {line}");
         }
+    }
+}
+
+/// The passive double pendulum of `scenes/` gains energy with explicit Euler at `dt = 0.01` (12 % of
+/// its kinetic energy in the first 0.1 s sample interval): one warning, and `instability` in the
+/// summary. `rk4` and `semi_implicit_euler` at `dt = 1e-3` keep it: no warning, no field.
+#[test]
+fn a_passive_scene_gaining_energy_warns_once_of_a_possible_instability() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenes_dir().join("double_pendulum.toml");
+    let run = |integrator: &str, dt: &str| {
+        let output = tumble(dir.path())
+            .args(["run", scene.to_str().unwrap(), "--integrator", integrator, "--dt", dt, "--duration", "20"])
+            .args(["--out", "t.csv", "--summary", "s.json"])
+            .assert()
+            .code(0)
+            .get_output()
+            .clone();
+        (String::from_utf8(output.stderr).unwrap(), read_json(&dir.path().join("s.json")))
+    };
+    let (stderr, summary) = run("euler", "0.01");
+    assert_eq!(stderr.matches("possible instability").count(), 1, "{stderr}");
+    assert!(stderr.contains("warning: possible instability at t = "), "{stderr}");
+    assert!(stderr.contains("reduce dt or use a structure-preserving integrator"), "{stderr}");
+    let rise = &summary["instability"];
+    assert!(rise["relative"].as_f64().unwrap() > 0.01, "{rise}");
+    assert!(rise["energy_rise"].as_f64().unwrap() > 0.0, "{rise}");
+    assert!(stderr.contains(&format!("t = {} s", rise["time"])), "{stderr}");
+    for integrator in ["rk4", "semi_implicit_euler"] {
+        let (stderr, summary) = run(integrator, "0.001");
+        assert!(!stderr.contains("instability"), "{integrator}: {stderr}");
+        assert!(summary.get("instability").is_none(), "{integrator}");
+        assert_eq!(summary["stopped"], "completed");
     }
 }

@@ -26,7 +26,7 @@ pub fn apply_torque(world: &mut tumble::World, base_tau: &[f64], r: usize, extra
 }
 
 /// The message of a diverged step as a `DivergedError`.
-pub fn diverged(e: tumble::world::Diverged) -> PyErr {
+pub fn diverged(e: tumble::world::StepError) -> PyErr {
     DivergedError::new_err(e.to_string())
 }
 

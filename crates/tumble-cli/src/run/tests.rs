@@ -73,7 +73,7 @@ fn runaway_world() -> World {
 fn a_diverging_step_is_undone_and_the_last_finite_state_is_written() {
     let mut world = runaway_world();
     let (outcome, csv) = simulate_csv(&mut world, false);
-    let Stop::Diverged(d) = outcome.stop else { panic!("{:?}", outcome.stop) };
+    let Stop::Diverged(tumble::world::StepError::Diverged(d)) = outcome.stop else { panic!("{:?}", outcome.stop) };
     assert_eq!(d.body, "runaway");
     assert!(d.quantity.contains("angular velocity"), "{}", d.quantity);
     assert!((9..=12).contains(&d.step), "step {}", d.step);

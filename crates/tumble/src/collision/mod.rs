@@ -121,6 +121,10 @@ pub struct Colliders {
     /// With a pool, the narrow phase runs on it from this many candidate pairs on.
     parallel_min_pairs: usize,
     chunks: parallel::Chunks,
+    /// The most candidate pairs the broad phase may find (module `broad`, "The budget").
+    pair_budget: usize,
+    /// The pairs found when the last broad phase went over the budget and stopped.
+    over_budget: Option<usize>,
 }
 
 impl std::fmt::Debug for Colliders {
@@ -198,6 +202,8 @@ impl Colliders {
             pool: None,
             parallel_min_pairs: parallel::MIN_PAIRS,
             chunks: parallel::Chunks::default(),
+            pair_budget: usize::MAX,
+            over_budget: None,
         };
         c.rebuild(bodies);
         c
@@ -255,6 +261,23 @@ impl Colliders {
         }
     }
 
+    /// The most candidate pairs the broad phase may find (no limit by default): beyond, it stops,
+    /// finds no contact, and [`Self::pairs_over_budget`] says how many it had found.
+    pub fn set_pair_budget(&mut self, budget: usize) {
+        self.pair_budget = budget;
+    }
+
+    /// The pair budget ([`Self::set_pair_budget`]).
+    pub fn pair_budget(&self) -> usize {
+        self.pair_budget
+    }
+
+    /// The candidate pairs the last broad phase had found when it went over the pair budget and
+    /// stopped (so that step found no contact), or `None` when it kept within it.
+    pub fn pairs_over_budget(&self) -> Option<usize> {
+        self.over_budget
+    }
+
     /// Whether the bodies' shapes match what was built (same count).
     pub fn matches(&self, bodies: &[RigidBody]) -> bool {
         self.shapes.len() == bodies.len()
@@ -296,7 +319,7 @@ impl Colliders {
     /// Finds every contact of the step into `out` (cleared first): pairs whose shapes are within
     /// the distance they can close during `dt` (s) under `gravity` (the world's, m/s², world frame,
     /// scaled by each body's `gravity_scale`), plus `slop` (m) or [`PREDICTION_MARGIN`], whichever
-    /// is larger.
+    /// is larger. None when the broad phase went over the pair budget ([`Self::set_pair_budget`]).
     pub fn find_contacts(&mut self, bodies: &[RigidBody], dt: f64, gravity: DVec3, slop: f64, out: &mut Vec<Contact>) {
         self.find_contacts_profiled(bodies, &[], dt, gravity, slop, out, None);
     }
@@ -320,6 +343,9 @@ impl Colliders {
         // two bodies that are each asleep or fixed keep their contacts (`contact::sleep`)
         self.broad_phase(bodies, asleep, dt, gravity, slop.max(PREDICTION_MARGIN));
         let broad = clock.lap();
+        if self.over_budget.is_some() {
+            return;
+        }
         let pairs = std::mem::take(&mut self.pairs);
         let mut manifolds = std::mem::take(&mut self.manifolds);
         manifolds.begin_step();

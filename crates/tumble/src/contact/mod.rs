@@ -80,6 +80,29 @@ pub struct ContactSettings {
     pub sleep_speed: f64,
     /// Time every body of an island must have been still before it falls asleep (s). Default `0.5`.
     pub sleep_time: f64,
+    /// The most candidate pairs the broad phase may find in a step; beyond, the step fails
+    /// ([`crate::world::StepError::ContactBudget`]). Default `None`: [`default_pair_budget`] of
+    /// the body count.
+    pub max_pairs: Option<u64>,
+}
+
+/// Candidate pairs per body in the default pair budget.
+pub const PAIRS_PER_BODY: u64 = 32;
+/// Candidate pairs the default pair budget allows whatever the body count.
+pub const MIN_PAIR_BUDGET: u64 = 10_000;
+
+/// The default pair budget of a world of `bodies` bodies: `32 · bodies + 10,000`. A pile of equal
+/// bodies at rest has about 3–10 candidate pairs per body (its neighbours, and the floor); bodies
+/// heaped at one spot have `(n − 1)/2` each.
+pub fn default_pair_budget(bodies: usize) -> u64 {
+    PAIRS_PER_BODY.saturating_mul(bodies as u64).saturating_add(MIN_PAIR_BUDGET)
+}
+
+impl ContactSettings {
+    /// The pair budget for a world of `bodies` bodies: `max_pairs`, else [`default_pair_budget`].
+    pub fn pair_budget(&self, bodies: usize) -> u64 {
+        self.max_pairs.unwrap_or_else(|| default_pair_budget(bodies))
+    }
 }
 
 impl Default for ContactSettings {
@@ -99,6 +122,7 @@ impl Default for ContactSettings {
             sleep: true,
             sleep_speed: 0.01,
             sleep_time: 0.5,
+            max_pairs: None,
         }
     }
 }
@@ -212,6 +236,13 @@ impl ContactStage {
         self.profile.as_ref()
     }
 
+    /// The candidate pairs found by the last step's broad phase when it went over the pair budget
+    /// (`ContactSettings::max_pairs`) and stopped, with the budget; `None` when it kept within it.
+    pub fn pairs_over_budget(&self) -> Option<(u64, u64)> {
+        let colliders = self.colliders.as_ref()?;
+        colliders.pairs_over_budget().map(|found| (found as u64, colliders.pair_budget() as u64))
+    }
+
     /// The contacts found at the last step.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
@@ -267,7 +298,8 @@ impl ContactStage {
             self.steady = None;
             return;
         }
-        self.colliders_mut(bodies);
+        let budget = settings.pair_budget(bodies.len());
+        self.colliders_mut(bodies).set_pair_budget(usize::try_from(budget).unwrap_or(usize::MAX));
         self.fall_asleep(bodies, settings, gravity, dt);
         let mut fresh = std::mem::take(&mut self.fresh);
         let mut profile = self.profile.take();
@@ -282,6 +314,16 @@ impl ContactStage {
             profile.as_mut(),
         );
         self.profile = profile;
+        if self.pairs_over_budget().is_some() {
+            // the step fails (`World::step`): nothing is solved
+            self.fresh = fresh;
+            self.contacts.clear();
+            self.impulses.clear();
+            self.lambdas.clear();
+            self.frozen.clear();
+            self.steady = None;
+            return;
+        }
         // nothing awake touches anything, and nobody fell asleep or woke since the last step: the
         // contacts, their impulses and the warm starts are the last step's
         let epoch = self.sleep.epoch();
@@ -703,6 +745,9 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
         if !ok {
             return Err((field, problem, value.to_string()));
         }
+    }
+    if s.max_pairs == Some(0) {
+        return Err(("max_pairs", "must be ≥ 1 (leave it out for the default, 32 per body + 10,000)", "0".into()));
     }
     if s.iterations == 0 || s.iterations > 10_000 {
         return Err(("contact_iterations", "must be in 1..=10000", s.iterations.to_string()));

@@ -77,7 +77,7 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
     world.robots = robots;
     super::robot::robot_collisions(src, &doc.robot, &mut world, &mut warnings)?;
     collision_filters(src, &doc, &mut world)?;
-    overlap_warnings(src, &doc, &mut world, &mut warnings);
+    overlap_warnings(src, &doc, &mut world, &mut warnings)?;
     Ok(Scene { world, origin, warnings })
 }
 
@@ -214,6 +214,7 @@ fn world_config(
             "contact_iterations" => span(w.contact_iterations.as_ref().and_then(|l| l.span.clone())),
             "sleep_speed" => span(w.sleep_speed.as_ref().and_then(|l| l.span.clone())),
             "sleep_time" => span(w.sleep_time.as_ref().and_then(|l| l.span.clone())),
+            "max_pairs" => span(w.max_pairs.as_ref().and_then(|l| l.span.clone())),
             _ => table.span.clone(),
         };
         let field = if e.field == "slop" { "contact_slop" } else { e.field };
@@ -265,6 +266,9 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
     }
     if let Some(l) = &w.contact_substeps {
         c.substeps = l.value;
+    }
+    if let Some(l) = &w.max_pairs {
+        c.max_pairs = Some(l.value);
     }
     if let Some(l) = &w.restitution_law {
         c.law = RestitutionLaw::from_name(&l.value).ok_or_else(|| {
@@ -327,10 +331,20 @@ fn collision_filters(src: &Source, doc: &SceneDoc, world: &mut World) -> Result<
 }
 
 /// A warning for each pair of bodies that overlaps deeply at the start (`World::deep_overlaps`),
-/// placed at the second body's `position` (or its table, or its grid).
-fn overlap_warnings(src: &Source, doc: &SceneDoc, world: &mut World, warnings: &mut Vec<String>) {
+/// placed at the second body's `position` (or its table, or its grid). An error when the starting
+/// poses give more candidate pairs than the pair budget (bodies heaped at one spot).
+fn overlap_warnings(
+    src: &Source,
+    doc: &SceneDoc,
+    world: &mut World,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
     let max_speed = world.config.contact.max_correction_speed;
-    for o in world.deep_overlaps() {
+    let overlaps = match world.deep_overlaps() {
+        Ok(overlaps) => overlaps,
+        Err(e) => return Err(over_budget(src, doc, world, &e)),
+    };
+    for o in overlaps {
         let (path, span) = body_location(doc, o.b);
         let text = format!(
             "overlaps body `{}` by {} m at the start (deeper than {} m): the contacts push them apart at up to \
@@ -343,6 +357,45 @@ fn overlap_warnings(src: &Source, doc: &SceneDoc, world: &mut World, warnings: &
         let text = format!("body `{}` {text}", world.bodies[o.b].name);
         warnings.push(src.warning(span.as_ref(), &path, &text));
     }
+    Ok(())
+}
+
+/// The error for starting poses over the pair budget: at the first grid of moving bodies whose
+/// copies are closer than their size along an axis (they all overlap), else at `world.max_pairs`.
+fn over_budget(src: &Source, doc: &SceneDoc, world: &mut World, e: &crate::world::ContactBudget) -> SceneError {
+    let problem =
+        format!("the bodies start with {} candidate contact pairs or more, over the budget of {}", e.pairs, e.budget);
+    let raise = "or raise `max_pairs` in [world] (default: 32 per body + 10,000)";
+    let mut first = doc.body.len();
+    for (g, grid) in doc.grid.iter().enumerate() {
+        let count = grid.value.count.value;
+        let copies: u64 = count.iter().product();
+        let size = 2.0 * world.bounding_radius(first);
+        first += copies as usize;
+        let (Some(spacing), Some(body)) = (&grid.value.spacing, world.bodies.get(first - copies as usize)) else {
+            continue;
+        };
+        let close = (0..3).filter(|&k| count[k] > 1 && spacing.value[k].abs() < size).count();
+        if body.fixed || size == 0.0 || close == 0 {
+            continue;
+        }
+        let one_spot = (0..3).all(|k| count[k] == 1 || spacing.value[k] == 0.0);
+        let placed = if one_spot { "all at one spot" } else { "closer than their size" };
+        return src.error(spacing.span.as_ref(), format!("grid[{g}].spacing"), problem).got(nums(&spacing.value)).hint(
+            format!(
+                "the {copies} copies of `{}` (bounding diameter {} m) are {placed}: every copy overlaps its \
+                 neighbours; space them at least {} m apart along each axis with more than one copy, {raise}",
+                grid.value.body.value.name.as_ref().map_or("", |n| n.value.as_str()),
+                super::describe::g(size),
+                super::describe::g(size),
+            ),
+        );
+    }
+    let w = doc.world.as_ref();
+    let span = w.and_then(|t| t.value.max_pairs.as_ref().and_then(|l| l.span.clone()).or_else(|| t.span.clone()));
+    src.error(span.as_ref(), "world.max_pairs", problem)
+        .got(e.budget.to_string())
+        .hint(format!("bodies heaped at one spot pair with each other (n²/2 pairs for n bodies): spread them, {raise}"))
 }
 
 /// The field path and span that place body `index`: `body[i].position` (or `body[i]`), or the

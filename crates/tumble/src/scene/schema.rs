@@ -161,6 +161,8 @@ pub struct WorldDoc {
     pub sleep_speed: Option<Loc<f64>>,
     /// s: time an island must be still before it falls asleep.
     pub sleep_time: Option<Loc<f64>>,
+    /// The most candidate contact pairs of a step (default: 32 per body + 10,000).
+    pub max_pairs: Option<Loc<u64>>,
 }
 
 /// One `[[body]]` (or the template `[grid.body]`).

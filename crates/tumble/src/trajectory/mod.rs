@@ -35,7 +35,7 @@ mod writer;
 pub(crate) use writer::body_row;
 
 pub use contacts::ContactWriter;
-pub use monitor::{relative_error, FlipCounter, Invariants, Monitor};
+pub use monitor::{relative_error, EnergyRise, FlipCounter, Invariants, Monitor, ENERGY_RISE};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
 pub use summary::{JointStepsSummary, RobotSummary};

@@ -21,6 +21,17 @@
 //! of the largest) has no intermediate axis and no flip count. Flips are counted until the body's
 //! first contact ([`World::first_contact_time`]): contacts change the angular momentum, and a body
 //! bouncing on the floor or lying on it (where `L` is round-off) would count flips that are none.
+//!
+//! **Energy growth.** A passive system cannot gain energy: without applied forces or torques (only
+//! gravity and damping on the free bodies; no constant joint force, no PD gain and no damping
+//! towards a moving target on the robots) and without contact (no body has touched anything yet,
+//! and no collision or resting contact took or gave energy), `E` is constant or falls. A rise
+//! between two samples is the integrator's doing: explicit Euler's `½ h² αᵀ I α` per step, or a
+//! step too large for a stiff or fast motion. The first rise of more than [`ENERGY_RISE`] of the
+//! largest kinetic energy seen at the samples (the energy in motion; the potential's zero is
+//! arbitrary, so `E` itself is no scale) is recorded ([`Monitor::instability`]), once: the CLI
+//! warns "possible instability". A system with no kinetic energy yet is never flagged (its rises
+//! are round-off). Once a load or a contact may do work the check is off for the rest of the run.
 use crate::analytic::AsymmetricTop;
 use crate::math::DVec3;
 use crate::world::World;
@@ -31,6 +42,63 @@ pub const DISTINCT_MOMENTS_TOLERANCE: f64 = 1e-9;
 /// The direction cosine of the intermediate axis with `L` beyond which the axis counts as aligned
 /// with `L` (or `−L`): `cos 60°`.
 pub const FLIP_ALIGNMENT: f64 = 0.5;
+
+/// The rise of the energy of a passive system between two samples, as a fraction of the largest
+/// kinetic energy seen, above which the run is flagged as possibly unstable.
+pub const ENERGY_RISE: f64 = 0.01;
+
+/// The first rise of a passive system's energy beyond [`ENERGY_RISE`] (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyRise {
+    /// The time of the sample that saw it (s).
+    pub time: f64,
+    /// The rise since the previous sample (J).
+    pub rise: f64,
+    /// The rise as a fraction of the largest kinetic energy seen at the samples until then.
+    pub relative: f64,
+}
+
+impl std::fmt::Display for EnergyRise {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "possible instability at t = {} s: energy rose by {:.3e} J ({:.3} % of the kinetic energy) in one \
+             sample interval of a passive system; reduce dt or use a structure-preserving integrator",
+            self.time,
+            self.rise,
+            100.0 * self.relative
+        )
+    }
+}
+
+/// Whether `world` is passive now, as far as its loads, controls and contacts tell (module docs).
+fn passive(world: &World) -> bool {
+    let loads_passive = world.free_bodies().all(|b| {
+        let l = &b.loads;
+        l.force_world == DVec3::ZERO
+            && l.force_body == DVec3::ZERO
+            && l.torque_world == DVec3::ZERO
+            && l.torque_body == DVec3::ZERO
+            && l.point_forces.is_empty()
+    });
+    let robots_passive = world.robots.iter().all(|r| {
+        let c = &r.control;
+        let still_target = c.v_target.iter().all(|&v| v == 0.0) || c.kd.iter().all(|&k| k == 0.0);
+        c.tau.iter().all(|&t| t == 0.0) && c.kp.iter().all(|&k| k == 0.0) && still_target
+    });
+    let energy = world.contact_energy();
+    let untouched = world.contact_collisions() == 0
+        && energy.collisions == 0.0
+        && energy.friction == 0.0
+        && (0..world.bodies.len()).all(|i| world.first_contact_time(i).is_none());
+    loads_passive && robots_passive && untouched
+}
+
+/// Kinetic energy of the free bodies and the robots (J).
+fn kinetic_energy(world: &World) -> f64 {
+    world.free_bodies().map(|b| b.kinetic_energy()).sum::<f64>()
+        + world.robots.iter().map(|r| r.kinetic_energy()).sum::<f64>()
+}
 
 /// The quantities a free rigid-body system conserves, at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,6 +219,12 @@ pub struct Monitor {
     max_angular_momentum_error: f64,
     flips: Vec<FlipCounter>,
     samples: u64,
+    /// Whether the energy-growth check is on (the system has been passive so far).
+    watching_energy: bool,
+    /// The largest kinetic energy seen at the samples (J).
+    max_kinetic: f64,
+    /// The first rise of the energy beyond [`ENERGY_RISE`], if any.
+    instability: Option<EnergyRise>,
 }
 
 impl Monitor {
@@ -183,6 +257,9 @@ impl Monitor {
             max_angular_momentum_error: 0.0,
             flips,
             samples: 0,
+            watching_energy: passive(world),
+            max_kinetic: 0.0,
+            instability: None,
         };
         monitor.observe(world);
         monitor
@@ -212,9 +289,35 @@ impl Monitor {
                 counter.observe(world.bodies[counter.body].angular_momentum_body(), world.time());
             }
         }
+        self.watch_energy(world, now.energy);
         self.last = now;
         self.last_time = world.time();
         self.samples += 1;
+    }
+
+    /// The energy-growth check of one sample of energy `energy` (J) (module docs).
+    fn watch_energy(&mut self, world: &World, energy: f64) {
+        if !self.watching_energy {
+            return;
+        }
+        if !passive(world) {
+            self.watching_energy = false;
+            return;
+        }
+        let rise = energy - self.last.energy;
+        if self.samples > 0 && self.instability.is_none() && self.max_kinetic > 0.0 {
+            let relative = rise / self.max_kinetic;
+            if relative > ENERGY_RISE {
+                self.instability = Some(EnergyRise { time: world.time(), rise, relative });
+            }
+        }
+        self.max_kinetic = self.max_kinetic.max(kinetic_energy(world));
+    }
+
+    /// The first rise of a passive system's energy by more than [`ENERGY_RISE`] of its largest
+    /// kinetic energy between two samples, if any (module docs).
+    pub fn instability(&self) -> Option<EnergyRise> {
+        self.instability
     }
 
     /// The invariants at the first sample.

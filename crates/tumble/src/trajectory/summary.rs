@@ -12,7 +12,9 @@
 //! [`Monitor`](super::Monitor)), `stopped`, `free_bodies`, `samples`, `sample_every`, `flips`, `scene`,
 //! `robots` (only when the scene has robots), `flips[].counted_until` (the body's first contact, s).
 //! `contact` (`collisions`, `energy_lost_in_collisions`, `energy_lost_in_friction`, J;
-//! `asleep_at_end`, the free bodies asleep at the end).
+//! `asleep_at_end`, the free bodies asleep at the end). `instability` (only when the monitor saw a
+//! passive system's energy rise by more than 1 % of its kinetic energy between two samples:
+//! `time` s, `energy_rise` J, `relative`; see [`Monitor::instability`](super::Monitor::instability)).
 //! No field is ever null and no number is ever NaN or infinite: [`Summary::to_json`] refuses them.
 
 use super::{Monitor, TrajectoryError};
@@ -29,6 +31,9 @@ pub enum StopReason {
     Diverged,
     /// The run was interrupted (SIGINT/SIGTERM) after a whole step.
     Interrupted,
+    /// The broad phase found more candidate contact pairs than the budget (`[world] max_pairs`);
+    /// the summary describes the state before that step.
+    ContactBudget,
     /// The run reached its wall-time limit (`--max-wall-time`) and stopped after a whole step.
     WallTimeLimit,
 }
@@ -119,6 +124,22 @@ pub struct Summary {
     pub robots: Vec<RobotSummary>,
     /// What contacts did: collisions resolved and kinetic energy they dissipated.
     pub contact: ContactSummary,
+    /// The first rise of a passive system's energy beyond 1 % of its kinetic energy between two
+    /// samples (a possible instability); absent when there was none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instability: Option<InstabilitySummary>,
+}
+
+/// A possible instability: a passive system's energy rose between two samples
+/// ([`Monitor::instability`](super::Monitor::instability)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct InstabilitySummary {
+    /// The time of the sample that saw the rise (s).
+    pub time: f64,
+    /// The rise since the previous sample (J).
+    pub energy_rise: f64,
+    /// The rise as a fraction of the largest kinetic energy seen until then.
+    pub relative: f64,
 }
 
 /// A robot of the run.
@@ -233,6 +254,11 @@ impl Summary {
                 energy_lost_in_friction: world.contact_energy().friction,
                 asleep_at_end: world.contacts().sleep().count(),
             },
+            instability: monitor.instability().map(|r| InstabilitySummary {
+                time: r.time,
+                energy_rise: r.rise,
+                relative: r.relative,
+            }),
         }
     }
 

@@ -292,6 +292,61 @@ fn a_zero_initial_value_gives_the_absolute_error() {
     assert_eq!(monitor.max_energy_error(), 1.0);
 }
 
+/// A passive body whose energy rises by more than 1 % of its kinetic energy between two samples is
+/// flagged once, at the first such sample; a smaller rise, a body at rest (round-off) and a body
+/// under a load are not.
+#[test]
+fn the_monitor_flags_the_first_energy_rise_of_a_passive_system() {
+    let config = WorldConfig { dt: 1e-2, gravity: DVec3::ZERO, ..Default::default() };
+    let moving = |v: f64| {
+        let mut stone = body("stone", [1.0, 1.0, 1.0]);
+        stone.state.velocity.x = v;
+        World::new(config, vec![stone])
+    };
+    // T = ½ · 2 kg · v²: from 1 J, +0.5 % then +1.5 % of the kinetic energy
+    let mut world = moving(1.0);
+    let mut monitor = Monitor::new(&world);
+    world.bodies[0].state.velocity.x = 1.005f64.sqrt();
+    monitor.observe(&world);
+    assert_eq!(monitor.instability(), None, "a rise of 0.5 %");
+    world.bodies[0].state.velocity.x = 1.02f64.sqrt();
+    for _ in 0..3 {
+        world.step().unwrap(); // free flight: the energy is unchanged
+    }
+    monitor.observe(&world);
+    let rise = monitor.instability().expect("a rise of 1.5 %");
+    assert_eq!(rise.time, world.time());
+    assert!((rise.rise - 0.015).abs() < 1e-12 && (rise.relative - 0.015 / 1.005).abs() < 1e-12, "{rise:?}");
+    let message = rise.to_string();
+    assert!(message.starts_with("possible instability at t = 0.03 s: energy rose by 1.500e-2 J"), "{message}");
+    assert!(message.ends_with("reduce dt or use a structure-preserving integrator"), "{message}");
+    // once: a later, larger rise leaves the first
+    world.bodies[0].state.velocity.x = 2.0;
+    monitor.observe(&world);
+    assert_eq!(monitor.instability(), Some(rise));
+    let summary = Summary::new(&world, &monitor, 0.0, StopReason::Completed, "<test>");
+    let v: serde_json::Value = serde_json::from_str(&summary.to_json().unwrap()).unwrap();
+    assert_eq!(v["instability"]["time"].as_f64(), Some(0.03));
+    assert_eq!(v["instability"]["energy_rise"].as_f64(), Some(rise.rise));
+
+    // at rest: no kinetic energy, no scale, no flag
+    let mut world = moving(0.0);
+    let mut monitor = Monitor::new(&world);
+    world.bodies[0].state.position.z = 1.0;
+    monitor.observe(&world);
+    assert_eq!(monitor.instability(), None);
+    // a constant force does work: not passive, no flag
+    let mut world = moving(1.0);
+    world.bodies[0].loads.force_world = DVec3::X;
+    let mut monitor = Monitor::new(&world);
+    world.bodies[0].state.velocity.x = 2.0;
+    monitor.observe(&world);
+    assert_eq!(monitor.instability(), None);
+    // and without a flag the summary has no `instability`
+    let summary = Summary::new(&world, &monitor, 0.0, StopReason::Completed, "<test>");
+    assert!(!summary.to_json().unwrap().contains("instability"));
+}
+
 #[test]
 fn summary_json_has_the_contract_fields() {
     let mut world = flipper_world(crate::Integrator::Splitting);

@@ -139,6 +139,46 @@ pub struct Diverged {
     pub time: f64,
 }
 
+/// A step stopped because the broad phase found more candidate contact pairs than the budget
+/// (`[world] max_pairs`, [`ContactSettings::max_pairs`]): bodies heaped at one spot, whose pairs
+/// and contacts would grow as the square of their number.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "contact budget exceeded at step {step} (t = {time} s): {pairs} candidate pairs, more than the budget of {budget} \
+     (`max_pairs` in [world])"
+)]
+pub struct ContactBudget {
+    /// The step that found them (1-based, as in [`Diverged`]); 0 for the bodies' starting poses.
+    pub step: u64,
+    /// The time that step would have reached (s).
+    pub time: f64,
+    /// Candidate pairs found when the search stopped (at least this many).
+    pub pairs: u64,
+    /// The budget.
+    pub budget: u64,
+}
+
+/// Why [`World::step`] failed; the step was undone either way.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// A body's state became non-finite or absurd.
+    #[error(transparent)]
+    Diverged(#[from] Diverged),
+    /// The broad phase went over the pair budget.
+    #[error(transparent)]
+    ContactBudget(#[from] ContactBudget),
+}
+
+impl StepError {
+    /// The divergence, if that is what stopped the step.
+    pub fn diverged(&self) -> Option<&Diverged> {
+        match self {
+            Self::Diverged(d) => Some(d),
+            Self::ContactBudget(_) => None,
+        }
+    }
+}
+
 /// Rigid bodies and the settings that move them.
 #[derive(Debug, Clone)]
 pub struct World {
@@ -236,7 +276,9 @@ impl World {
     ///
     /// A step that diverges is undone: on `Err` the bodies and robots are as they were before the call
     /// (the last finite state), and the error names the body, the quantity, the step and the time.
-    pub fn step(&mut self) -> Result<(), Diverged> {
+    /// So is a step whose broad phase finds more candidate pairs than the pair budget
+    /// ([`ContactSettings::max_pairs`]): [`StepError::ContactBudget`].
+    pub fn step(&mut self) -> Result<(), StepError> {
         // with contacts, the states are saved before the impulses change them; without, in the
         // integration's own pass (no extra sweep over the bodies)
         let mut clock = Clock::start(self.profile.is_some());
@@ -265,6 +307,11 @@ impl World {
                 self.config.dt,
                 lead,
             );
+            if let Some((pairs, budget)) = self.contact.pairs_over_budget() {
+                self.undo(self.bodies.len());
+                let (step, time) = (self.steps + 1, (self.steps + 1) as f64 * self.config.dt);
+                return Err(ContactBudget { step, time, pairs, budget }.into());
+            }
             self.note_first_contacts();
         }
         let contact_time = clock.lap();
@@ -273,14 +320,14 @@ impl World {
             if let Err((saved, stop)) = self.integrate_free_bodies(!contacts, false) {
                 self.undo(if contacts { self.bodies.len() } else { saved });
                 match stop {
-                    Stop::Diverged(diverged) => return Err(diverged),
+                    Stop::Diverged(diverged) => return Err(diverged.into()),
                     Stop::Shaped(_) => unreachable!("not watched"),
                 }
             }
         }
         if let Err(diverged) = self.step_robots() {
             self.undo(self.bodies.len());
-            return Err(diverged);
+            return Err(diverged.into());
         }
         if contacts {
             self.contact.finish(&mut self.bodies);
@@ -384,12 +431,26 @@ impl World {
 
     /// The pairs of bodies that overlap deeply now (see [`crate::collision::Overlap`] for the
     /// threshold), sorted by pair; none when contacts are off. The scene loader reports them as
-    /// warnings; the contact stage pushes them apart at up to `max_correction_speed`.
-    pub fn deep_overlaps(&mut self) -> Vec<Overlap> {
+    /// warnings; the contact stage pushes them apart at up to `max_correction_speed`. An error
+    /// (at step 0) when the bodies' starting poses give more candidate pairs than the pair budget.
+    pub fn deep_overlaps(&mut self) -> Result<Vec<Overlap>, ContactBudget> {
         if !self.config.contact.enabled {
-            return Vec::new();
+            return Ok(Vec::new());
         }
-        self.contact.colliders_mut(&self.bodies).deep_overlaps(&self.bodies, self.config.contact.slop)
+        let budget = self.config.contact.pair_budget(self.bodies.len());
+        let colliders = self.contact.colliders_mut(&self.bodies);
+        colliders.set_pair_budget(usize::try_from(budget).unwrap_or(usize::MAX));
+        let overlaps = colliders.deep_overlaps(&self.bodies, self.config.contact.slop);
+        match colliders.pairs_over_budget() {
+            Some(pairs) => Err(ContactBudget { step: 0, time: 0.0, pairs: pairs as u64, budget }),
+            None => Ok(overlaps),
+        }
+    }
+
+    /// The radius of body `index`'s collision shape's bounding sphere about its centre of mass (m);
+    /// 0 for a plane or a body without a shape.
+    pub fn bounding_radius(&mut self, index: usize) -> f64 {
+        self.contact.colliders_mut(&self.bodies).radius(index)
     }
 
     /// The contact stage (contacts of the last step, collision shapes, collisions so far).

@@ -32,8 +32,12 @@
 //!    one cell below (`c(lo_k) − 1 … c(hi_k)`: the lower corner of a small box that meets them), or
 //!    against every small box when that is fewer; and against each other.
 //! 4. **The order.** The pairs found `(min, max)` are sorted by their first body with a counting
-//!    sort and each body's few second bodies by insertion sort: `O(n + pairs)`; the plane pairs are
-//!    emitted in their place and the excluded pairs dropped.
+//!    sort and each body's few second bodies by insertion sort (a long list by `sort_unstable`):
+//!    `O(n + pairs)`; the plane pairs are emitted in their place and the excluded pairs dropped.
+//! 5. **The budget.** Bodies heaped at one spot pair with each other, `n²/2` pairs for `n` bodies
+//!    (2·10⁸ for 20,000, gigabytes of pairs and contacts). The search stops as soon as it has found
+//!    more than the pair budget ([`Colliders::set_pair_budget`], `[world] max_pairs`), leaves no
+//!    pair, and says so ([`Colliders::pairs_over_budget`]); the caller ends the run.
 //!
 //! Cost: `O(n + cells + tests)`, with about `14 · m` box tests per small box for `m` boxes per cell
 //! (about one for a pile of equal balls), against the sort and sweep's `O(n)` boxes overlapping each
@@ -67,6 +71,9 @@ const MIN_CELLS: f64 = 64.0;
 
 /// The relative margin of the cell side over the widest small box.
 const CELL_MARGIN: f64 = 1e-6;
+
+/// A body's partners beyond this many are sorted by `sort_unstable` rather than insertion sort.
+const INSERTION_SORT_MAX: usize = 32;
 
 /// The forward neighbour rows of a cell `(x, y, z)`: rows `x − 1 … x + 1` at `(y + dy, z + dz)`;
 /// with the cell's own remainder and the cell `x + 1`, the 13 cells after it.
@@ -171,8 +178,12 @@ impl Colliders {
     /// Fills `self.aabbs`, `self.sweeps` and the candidate pairs `self.pairs` (sorted) of the step.
     /// A body asleep (`asleep[i]`, `contact::sleep`; empty: none) pairs as a fixed one: never with
     /// another body that is fixed or asleep.
+    ///
+    /// When more pairs than the pair budget are found, the search stops: no pair is left, and
+    /// [`Colliders::pairs_over_budget`] gives the number found so far.
     pub(super) fn broad_phase(&mut self, bodies: &[RigidBody], asleep: &[bool], dt: f64, gravity: DVec3, slop: f64) {
         let n = bodies.len().min(self.shapes.len());
+        self.over_budget = None;
         self.aabbs.clear();
         self.sweeps.clear();
         self.pairs.clear();
@@ -219,7 +230,15 @@ impl Colliders {
             return;
         }
         let large_width = LARGE_FACTOR * width_sum / widths.max(1) as f64;
-        grid.find_pairs(&self.aabbs, large_width);
+        // each plane pairs with every free body with a box: what is left of the budget for the rest
+        let plane_pairs = self.planes.len().saturating_mul(grid.free_boxed.len());
+        let budget = self.pair_budget.saturating_sub(plane_pairs);
+        if !grid.find_pairs(&self.aabbs, large_width, budget) || plane_pairs > self.pair_budget {
+            self.over_budget = Some(grid.found.len().saturating_add(plane_pairs));
+            grid.found.clear();
+            self.grid = grid;
+            return;
+        }
         grid.sort_pairs(n);
         self.emit_pairs(&grid, n);
         self.grid = grid;
@@ -254,8 +273,9 @@ impl Colliders {
 
 impl Grid {
     /// The pairs of overlapping boxes among `self.boxed` (boxes `aabbs`, by body) into
-    /// `self.found`, in no order: boxes wider than `large_width` (m) as large ones.
-    fn find_pairs(&mut self, aabbs: &[Aabb], large_width: f64) {
+    /// `self.found`, in no order: boxes wider than `large_width` (m) as large ones. `false` when
+    /// more than `budget` pairs were found (the search stopped there).
+    fn find_pairs(&mut self, aabbs: &[Aabb], large_width: f64, budget: usize) -> bool {
         self.found.clear();
         self.large.clear();
         self.small.clear();
@@ -277,8 +297,7 @@ impl Grid {
         }
         let lattice = Lattice::new(lowest, highest, side, CELLS_PER_BOX * self.small.len() as f64 + MIN_CELLS);
         self.fill_cells(&lattice, aabbs);
-        self.small_pairs(&lattice);
-        self.large_pairs(&lattice, aabbs);
+        self.small_pairs(&lattice, budget) && self.large_pairs(&lattice, aabbs, budget)
     }
 
     /// Sorts the small boxes into their cells (a counting sort by cell index): `self.bounds`,
@@ -311,8 +330,9 @@ impl Grid {
         }
     }
 
-    /// The pairs of small boxes: each cell against itself and its 13 forward neighbours.
-    fn small_pairs(&mut self, lattice: &Lattice) {
+    /// The pairs of small boxes: each cell against itself and its 13 forward neighbours. `false`
+    /// as soon as more than `budget` pairs were found.
+    fn small_pairs(&mut self, lattice: &Lattice, budget: usize) -> bool {
         /// Places written at once into the candidates, whatever a run's length.
         const LANES: usize = 8;
         let [nx, ny, nz] = lattice.dims;
@@ -363,26 +383,34 @@ impl Grid {
                         found.push((body_a.min(body_b), body_a.max(body_b)));
                     }
                 }
+                // checked per box: one box adds at most n pairs
+                if found.len() > budget {
+                    return false;
+                }
             }
             first = end;
         }
+        true
     }
 
     /// The pairs of each large box with the small boxes whose lower corner is in a cell its box
     /// covers (widened by one cell below), or with every small box when that is fewer; and the
-    /// pairs of large boxes.
-    fn large_pairs(&mut self, lattice: &Lattice, aabbs: &[Aabb]) {
+    /// pairs of large boxes. `false` as soon as more than `budget` pairs were found.
+    fn large_pairs(&mut self, lattice: &Lattice, aabbs: &[Aabb], budget: usize) -> bool {
         let (bounds, owners, starts, found) = (&self.bounds, &self.owners, &self.starts, &mut self.found);
         let fixed_body = &self.fixed;
         for (k, &i) in self.large.iter().enumerate() {
             let (aabb, fixed) = (&aabbs[i], fixed_body[i]);
-            let mut meet = |b: &Aabb, (j, fixed_j): (usize, bool)| {
+            let meet = |found: &mut Vec<(usize, usize)>, b: &Aabb, (j, fixed_j): (usize, bool)| {
                 if overlap(aabb, b) && !(fixed && fixed_j) {
                     found.push((i.min(j), i.max(j)));
                 }
             };
             for &j in &self.large[k + 1..] {
-                meet(&aabbs[j], (j, fixed_body[j]));
+                meet(found, &aabbs[j], (j, fixed_body[j]));
+            }
+            if found.len() > budget {
+                return false;
             }
             if bounds.is_empty() {
                 continue;
@@ -393,7 +421,10 @@ impl Grid {
             // (a box with lo > hi has a NaN bound and meets nothing: all are tested all the same)
             if covered >= bounds.len() || (0..3).any(|k| lo[k] > hi[k]) {
                 for (b, &owner) in bounds.iter().zip(owners) {
-                    meet(b, owner);
+                    meet(found, b, owner);
+                }
+                if found.len() > budget {
+                    return false;
                 }
                 continue;
             }
@@ -401,11 +432,15 @@ impl Grid {
                 for y in lo[1]..=hi[1] {
                     let (s, e) = (starts[lattice.index([lo[0], y, z])], starts[lattice.index([hi[0], y, z]) + 1]);
                     for (b, &owner) in bounds[s..e].iter().zip(&owners[s..e]) {
-                        meet(b, owner);
+                        meet(found, b, owner);
                     }
                 }
             }
+            if found.len() > budget {
+                return false;
+            }
         }
+        true
     }
 
     /// Sorts `self.found` by first body (a counting sort into `firsts`, `seconds`), each body's
@@ -426,9 +461,13 @@ impl Grid {
             self.seconds[*at] = j;
             *at += 1;
         }
-        // a body has a few partners: insertion sort
+        // a body has a few partners: insertion sort; many (a heap), `sort_unstable`, not O(m²)
         for i in 0..n {
             let partners = &mut self.seconds[self.firsts[i]..self.firsts[i + 1]];
+            if partners.len() > INSERTION_SORT_MAX {
+                partners.sort_unstable();
+                continue;
+            }
             for k in 1..partners.len() {
                 let j = partners[k];
                 let mut m = k;

@@ -264,3 +264,46 @@ fn sleeping_bodies_pair_only_with_awake_ones() {
     c.broad_phase(&bodies, &asleep, 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), 0.0);
     assert_eq!(c.pairs, expected);
 }
+
+/// Bodies heaped at one spot: every pair is a candidate. With a budget below that count the search
+/// stops, leaves no pair and says how many it had found (more than the budget, at most all of
+/// them); with a budget of exactly that count it finds them all, sorted (a body's list of 299
+/// partners is past the insertion sort).
+#[test]
+fn a_heap_at_one_spot_stops_at_the_pair_budget() {
+    let n = 300;
+    let mut bodies: Vec<RigidBody> = (0..n)
+        .map(|_| {
+            body(&Spec {
+                kind: 1,
+                size: [0.5; 3],
+                position: [0.0; 3],
+                turn: [0.0; 3],
+                velocity: [0.0; 3],
+                omega: [0.0; 3],
+                fixed: false,
+            })
+        })
+        .collect();
+    bodies[0].shape = Some(Shape::Plane);
+    bodies[0].fixed = true;
+    // 299 balls: 299·298/2 ball pairs and 299 with the plane
+    let all = 299 * 298 / 2 + 299;
+    let mut c = Colliders::new(&bodies);
+    c.set_pair_budget(all);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
+    assert_eq!(c.pairs_over_budget(), None);
+    assert_eq!(c.pairs, every_pair(&c, &bodies));
+    assert_eq!(c.pairs.len(), all);
+    for budget in [0, 298, 299, 1000, all - 1] {
+        c.set_pair_budget(budget);
+        c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
+        let found = c.pairs_over_budget().unwrap_or_else(|| panic!("budget {budget}: not exceeded"));
+        assert!(found > budget && found <= all, "budget {budget}: {found} found");
+        assert!(c.pairs.is_empty(), "budget {budget}");
+    }
+    // the next broad phase within the budget forgets it
+    c.set_pair_budget(usize::MAX);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
+    assert_eq!((c.pairs_over_budget(), c.pairs.len()), (None, all));
+}
