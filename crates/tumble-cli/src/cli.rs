@@ -165,6 +165,12 @@ pub struct RunArgs {
     #[arg(long, short)]
     pub quiet: bool,
 
+    /// Time every stage of the step (broad and narrow phase, robot contact rows, collisions,
+    /// resting contact, integration, robot dynamics and bookkeeping): a table on standard error at
+    /// the end, and a `profile` object in the summary (µs per step).
+    #[arg(long)]
+    pub profile: bool,
+
     /// Write the trajectory even when its estimated size exceeds 10 GB.
     #[arg(long)]
     pub force: bool,

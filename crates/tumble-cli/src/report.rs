@@ -54,6 +54,35 @@ pub fn start_line(origin: &str, world: &tumble::World, out: &Path) -> String {
     )
 }
 
+/// The table `--profile` prints when a run ends: µs per step of each stage, indented under the
+/// stage it is part of, and its share of the step.
+pub fn profile_table(p: &tumble::trajectory::ProfileSummary) -> String {
+    let rows = [
+        ("broad phase", p.broad_phase_us, 0),
+        ("narrow phase", p.narrow_phase_us, 0),
+        ("robot links: shapes, contacts", p.link_detect_us, 1),
+        ("collisions", p.impacts_us, 0),
+        ("robot contact rows: M, a0, J, W, K", p.link_rows_us, 1),
+        ("resting contact (substeps)", p.resting_us, 0),
+        ("integration", p.integration_us, 0),
+        ("robot dynamics and integrator", p.robot_dynamics_us, 1),
+        ("robot kinematics, energy", p.robot_bookkeeping_us, 1),
+    ];
+    let mut out = String::from("profile (per step):\n");
+    let share = |x: f64| if p.step_us > 0.0 { 100.0 * x / p.step_us } else { 0.0 };
+    for (name, us, depth) in rows {
+        let label = format!("{}{name}", "  ".repeat(depth + 1));
+        let _ = writeln!(out, "{label:<40} {us:>9.2} µs {:>5.1} %", share(us));
+    }
+    let _ = writeln!(out, "  {:<38} {:>9.2} µs", "step", p.step_us);
+    let _ = writeln!(
+        out,
+        "  pairs {:.1}, contacts {:.1}, robot link contacts {:.1}",
+        p.pairs, p.contacts, p.link_contacts
+    );
+    out
+}
+
 /// The table printed when a run ends.
 pub fn table(
     summary: &Summary,

@@ -334,6 +334,9 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
             return Err(stdout_failure(e));
         }
     }
+    if args.profile {
+        world.set_profiling(true);
+    }
     let progress_allowed = !quiet && std::io::stderr().is_terminal();
     let mut ticker = Ticker::new(world.config.step_count(), world.free_bodies().count(), progress_allowed)
         .with_wall_time_limit(wall_time_limit);
@@ -382,6 +385,9 @@ pub fn run(args: &RunArgs) -> Result<Status, Failure> {
     let run_summary = Summary::new(&world, &outcome.monitor, outcome.wall_time_s, reason, &origin);
     if let (Some(output), Some(path)) = (summary_out, &summary) {
         write_summary(&run_summary, output, path)?;
+    }
+    if let Some(p) = &run_summary.profile {
+        let _ = std::io::stderr().lock().write_all(report::profile_table(p).as_bytes());
     }
     if !quiet {
         let table = report::table(&run_summary, &out, format, summary.as_deref(), contacts.as_deref());

@@ -334,8 +334,15 @@ impl ContactStage {
         self.steady = fresh.is_empty().then_some(epoch);
         self.fresh = fresh;
         if !self.links.colliders.is_empty() {
+            let mut clock = crate::world::Clock::start(self.profile.is_some());
             let colliders = self.colliders.as_ref().expect("built above");
             self.links.detect(colliders, bodies, robots, dt, settings.slop);
+            if let Some(p) = &mut self.profile {
+                let t = clock.lap();
+                p.link_detect += t;
+                p.narrow_phase += t;
+                p.link_contacts += self.links.contacts().len() as u64;
+            }
         }
         if steady && self.links.is_empty() {
             // the kept contacts are all between sleeping or fixed bodies (nothing awake touched
@@ -365,7 +372,11 @@ impl ContactStage {
         self.impacts(bodies, settings, dt, lead);
         let (soft, soft_fixed) = softness(settings, dt);
         if !self.links.is_empty() {
+            let mut rows_clock = crate::world::Clock::start(self.profile.is_some());
             self.links.prepare(bodies, &self.bodies, &self.positions, robots, settings, dt, soft, soft_fixed);
+            if let Some(p) = &mut self.profile {
+                p.link_rows += rows_clock.lap();
+            }
             if self.links.impacts(&mut self.bodies, settings, dt) {
                 self.store_velocities(bodies);
             }

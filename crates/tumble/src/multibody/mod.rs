@@ -63,7 +63,7 @@ pub use model::{
 };
 pub use reduce::{kept_coordinates, reduced_model, LockError};
 pub use rnea::{bias_forces, rnea};
-pub use simulate::{ContactChange, Control, Method, Simulator};
+pub use simulate::{ContactChange, Control, Method, PdWave, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, Massless, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};

@@ -41,6 +41,34 @@ pub struct Control {
     /// Effort limits `τ_max > 0` (N·m or N) clamping the commanded force `τ_const + PD` of each
     /// velocity coordinate to `[−τ_max, τ_max]`; `f64::INFINITY` for none (length nv).
     pub effort: Vec<f64>,
+    /// Periodic position targets: each sets `q*` of its coordinate at the start of every step
+    /// ([`Control::follow_waves`]); empty for constant targets.
+    pub waves: Vec<PdWave>,
+}
+
+/// A position target that swings about a centre, `q*(t) = q̄ + A sin(2π f t + φ)`, held over each
+/// step at its value at the step's start (a zero-order hold, as a controller writes its command
+/// once per step). The velocity target is not changed: the PD then reads
+/// `τ = k_p (q*(t) − q) + k_d (v* − v)`, as a position actuator whose command is `q*(t)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdWave {
+    /// The position coordinate (index into `q`).
+    pub q_index: usize,
+    /// Centre `q̄` (rad or m).
+    pub centre: f64,
+    /// Amplitude `A` (rad or m).
+    pub amplitude: f64,
+    /// Frequency `f` (Hz).
+    pub frequency: f64,
+    /// Phase `φ` (rad).
+    pub phase: f64,
+}
+
+impl PdWave {
+    /// `q*(t)`.
+    pub fn target(&self, t: f64) -> f64 {
+        self.centre + self.amplitude * (std::f64::consts::TAU * self.frequency * t + self.phase).sin()
+    }
 }
 
 impl Control {
@@ -55,6 +83,14 @@ impl Control {
             q_target: model.neutral_configuration(),
             v_target: vec![0.0; nv],
             effort: vec![f64::INFINITY; nv],
+            waves: Vec::new(),
+        }
+    }
+
+    /// Sets the position target of every [`PdWave`] to its value at time `t` (s).
+    pub fn follow_waves(&mut self, t: f64) {
+        for w in &self.waves {
+            self.q_target[w.q_index] = w.target(t);
         }
     }
 

@@ -590,8 +590,42 @@ impl RobotReader<'_, '_> {
                     }
                     control.v_target[joint_ref.v_index] = tv.value;
                 }
+                let wave = (&pd.value.amplitude, &pd.value.frequency, &pd.value.phase);
+                if let (None, None, None) = wave {
+                    continue;
+                }
+                let Some(amplitude) = wave.0 else {
+                    return Err(self
+                        .src
+                        .error(span, self.at(&format!("pd.{joint}")), "`frequency` and `phase` need an `amplitude` (rad or m)")
+                        .hint("e.g. `{ target = 0.5, kp = 100.0, kd = 10.0, amplitude = 0.2, frequency = 2.0 }`"));
+                };
+                if !amplitude.value.is_finite() {
+                    return Err(self.err(&key("amplitude"), amplitude, "must be finite").got(num(amplitude.value)));
+                }
+                let Some(frequency) = wave.1 else {
+                    return Err(self.src.error(span, self.at(&format!("pd.{joint}")), "`amplitude` needs a `frequency` (Hz)"));
+                };
+                if !(frequency.value.is_finite() && frequency.value > 0.0) {
+                    return Err(self.err(&key("frequency"), frequency, "must be finite and > 0 (Hz)").got(num(frequency.value)));
+                }
+                let phase = match wave.2 {
+                    Some(p) if !p.value.is_finite() => {
+                        return Err(self.err(&key("phase"), p, "must be finite (rad)").got(num(p.value)))
+                    }
+                    Some(p) => p.value,
+                    None => 0.0,
+                };
+                control.waves.push(crate::multibody::PdWave {
+                    q_index: joint_ref.q_index,
+                    centre: target.value,
+                    amplitude: amplitude.value,
+                    frequency: frequency.value,
+                    phase,
+                });
             }
         }
+        control.follow_waves(0.0);
         Ok(control)
     }
 }
@@ -783,6 +817,16 @@ pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
                     num(c.kd[vi]),
                     num(c.v_target[vi])
                 );
+                if let Some(w) = c.waves.iter().find(|w| w.q_index == qi) {
+                    let _ = write!(
+                        out,
+                        ", swinging about {} by {} at {} Hz, phase {} rad",
+                        num(w.centre),
+                        num(w.amplitude),
+                        num(w.frequency),
+                        num(w.phase)
+                    );
+                }
             }
         }
         let _ = writeln!(out);

@@ -465,4 +465,10 @@ pub struct PdDoc {
     pub kp: Option<Loc<f64>>,
     /// Derivative gain (N·m·s/rad or N·s/m), ≥ 0.
     pub kd: Option<Loc<f64>>,
+    /// A periodic target, `target + amplitude sin(2π frequency t + phase)` (rad or m).
+    pub amplitude: Option<Loc<f64>>,
+    /// Its frequency (Hz), > 0; required with `amplitude`.
+    pub frequency: Option<Loc<f64>>,
+    /// Its phase (rad), default 0.
+    pub phase: Option<Loc<f64>>,
 }

@@ -128,6 +128,53 @@ pub struct Summary {
     /// samples (a possible instability); absent when there was none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instability: Option<InstabilitySummary>,
+    /// Where the time of a step went (`tumble run --profile`); absent unless profiled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileSummary>,
+}
+
+/// The wall time of a step per stage (µs per step, averaged over the run) and the contact counts
+/// per step ([`crate::world::Profile`]). The `link_*` and `robot_*` stages are parts of the stage
+/// before them in this list (`link_detect` of `narrow_phase`, `link_rows` of `impacts`,
+/// `robot_dynamics` and `robot_bookkeeping` of `integration`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[allow(missing_docs)]
+pub struct ProfileSummary {
+    pub step_us: f64,
+    pub broad_phase_us: f64,
+    pub narrow_phase_us: f64,
+    pub link_detect_us: f64,
+    pub impacts_us: f64,
+    pub link_rows_us: f64,
+    pub resting_us: f64,
+    pub integration_us: f64,
+    pub robot_dynamics_us: f64,
+    pub robot_bookkeeping_us: f64,
+    pub pairs: f64,
+    pub contacts: f64,
+    pub link_contacts: f64,
+}
+
+impl From<crate::world::Profile> for ProfileSummary {
+    fn from(p: crate::world::Profile) -> Self {
+        let s = p.per_step();
+        let us = 1e6;
+        Self {
+            step_us: s.step * us,
+            broad_phase_us: s.broad_phase * us,
+            narrow_phase_us: s.narrow_phase * us,
+            link_detect_us: s.link_detect * us,
+            impacts_us: s.impacts * us,
+            link_rows_us: s.link_rows * us,
+            resting_us: s.resting * us,
+            integration_us: s.integration * us,
+            robot_dynamics_us: s.robot_dynamics * us,
+            robot_bookkeeping_us: s.robot_bookkeeping * us,
+            pairs: s.pairs,
+            contacts: s.contacts,
+            link_contacts: s.link_contacts,
+        }
+    }
 }
 
 /// A possible instability: a passive system's energy rose between two samples
@@ -259,6 +306,7 @@ impl Summary {
                 energy_rise: r.rise,
                 relative: r.relative,
             }),
+            profile: world.profile().map(ProfileSummary::from),
         }
     }
 

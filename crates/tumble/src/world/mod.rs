@@ -282,6 +282,10 @@ impl World {
         // with contacts, the states are saved before the impulses change them; without, in the
         // integration's own pass (no extra sweep over the bodies)
         let mut clock = Clock::start(self.profile.is_some());
+        let t = self.time();
+        for robot in &mut self.robots {
+            robot.control.follow_waves(t);
+        }
         // whether the contact stage has work; when that takes a look at every body, the integration
         // pass looks (no pass of its own over the bodies), supposing there is none
         let (contacts, integrated) = match self.contacts_known() {

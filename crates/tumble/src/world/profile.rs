@@ -23,6 +23,17 @@ pub struct Profile {
     pub resting: f64,
     /// Free-body integration, robots, and moving the held bodies after it (s).
     pub integration: f64,
+    /// Of `narrow_phase`: placing the robots' link shapes and their contacts (s).
+    pub link_detect: f64,
+    /// Of `impacts`: the robots' contact rows: `M` by CRBA, its `LᵀDL` factor, the free
+    /// acceleration `a₀`, each point's `J_c`, `W = M⁻¹ J_cᵀ` and `K`, the joint-limit rows (s).
+    pub link_rows: f64,
+    /// Of `integration`: the robots' own steps (joint forces, ABA, the integrator, the limits'
+    /// end-of-step phase) (s).
+    pub robot_dynamics: f64,
+    /// Of `integration`: the robots' forward kinematics of the new state, their energy and
+    /// momentum (s).
+    pub robot_bookkeeping: f64,
     /// The whole step (s).
     pub step: f64,
     /// Candidate pairs of convex shapes given to the narrow phase.
@@ -31,6 +42,8 @@ pub struct Profile {
     pub reused: u64,
     /// Contact points found.
     pub contacts: u64,
+    /// Contact points of robot links found.
+    pub link_contacts: u64,
 }
 
 impl Profile {
@@ -43,10 +56,15 @@ impl Profile {
             impacts: self.impacts / n,
             resting: self.resting / n,
             integration: self.integration / n,
+            link_detect: self.link_detect / n,
+            link_rows: self.link_rows / n,
+            robot_dynamics: self.robot_dynamics / n,
+            robot_bookkeeping: self.robot_bookkeeping / n,
             step: self.step / n,
             pairs: self.pairs as f64 / n,
             reused: self.reused as f64 / n,
             contacts: self.contacts as f64 / n,
+            link_contacts: self.link_contacts as f64 / n,
         }
     }
 
@@ -56,9 +74,12 @@ impl Profile {
         self.narrow_phase += other.narrow_phase;
         self.impacts += other.impacts;
         self.resting += other.resting;
+        self.link_detect += other.link_detect;
+        self.link_rows += other.link_rows;
         self.pairs += other.pairs;
         self.reused += other.reused;
         self.contacts += other.contacts;
+        self.link_contacts += other.link_contacts;
     }
 }
 
@@ -71,10 +92,15 @@ pub struct PerStep {
     pub impacts: f64,
     pub resting: f64,
     pub integration: f64,
+    pub link_detect: f64,
+    pub link_rows: f64,
+    pub robot_dynamics: f64,
+    pub robot_bookkeeping: f64,
     pub step: f64,
     pub pairs: f64,
     pub reused: f64,
     pub contacts: f64,
+    pub link_contacts: f64,
 }
 
 /// A stopwatch that reads the clock only when profiling is on.

@@ -273,8 +273,9 @@ impl Robot {
         self.momentum = momentum;
     }
 
-    /// One step of `dt` seconds; on a non-finite or absurd state, the state is restored and the
-    /// problem described (`joint `elbow`: v is not finite`).
+    /// One step of `dt` seconds, without the bookkeeping of the new state ([`Self::refresh`], the
+    /// caller's); on a non-finite or absurd state, the state is restored and the problem described
+    /// (`joint `elbow`: v is not finite`).
     /// `contact`: what the step's contacts changed ([`crate::contact::links::LinkStage::robot_change`]).
     fn step(
         &mut self,
@@ -298,7 +299,6 @@ impl Robot {
         for (count, &clamped) in self.clamp_steps.iter_mut().zip(self.sim.clamped()) {
             *count += u64::from(clamped);
         }
-        self.refresh();
         Ok(())
     }
 
@@ -358,7 +358,17 @@ impl World {
             let contact = self.contact.links.robot_change(r);
             let held = matches!(contact, Some(crate::multibody::ContactChange::Held { .. }));
             let energy_before = self.robots[r].energy();
-            if let Err(quantity) = self.robots[r].step(method, dt, gravity, contact) {
+            let mut clock = super::Clock::start(self.profile.is_some());
+            let stepped = self.robots[r].step(method, dt, gravity, contact);
+            let dynamics = clock.lap();
+            if stepped.is_ok() {
+                self.robots[r].refresh();
+            }
+            if let Some(p) = &mut self.profile {
+                p.robot_dynamics += dynamics;
+                p.robot_bookkeeping += clock.lap();
+            }
+            if let Err(quantity) = stepped {
                 for earlier in &mut self.robots[..r] {
                     earlier.undo();
                 }
