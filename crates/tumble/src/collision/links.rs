@@ -25,7 +25,7 @@
 use super::{feature_key, Colliders, DUPLICATE_DISTANCE, PREDICTION_MARGIN};
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
-use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::bounding_volume::{Aabb, BoundingSphere, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{
     ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
@@ -71,6 +71,11 @@ pub struct LinkCollider {
     body_from_shape: Pose,
     /// Distance from the body frame's origin to the farthest point of the shape (m).
     reach: f64,
+    /// For a shape of many vertices (a hull, a mesh, a compound), its box and bounding sphere in
+    /// its own frame: the world box is then the overlap of the two placed boxes (the placed local
+    /// box `c ± |R| h`, the sphere's `c ± ρ`), no pass over the vertices per step. `None`: a
+    /// primitive, whose exact box is as cheap.
+    local_bounds: Option<(Aabb, BoundingSphere)>,
     /// Whether it collides at all (`no_collide = [["link"]]` takes a link out).
     pub enabled: bool,
 }
@@ -94,8 +99,12 @@ impl LinkCollider {
     ) -> Self {
         let (parry, offset) = super::parry_shape(shape, false);
         let body_from_shape = Pose::from_parts(position_body, orientation_body) * offset;
-        let reach = parry.compute_local_bounding_sphere().radius() + body_from_shape.translation.length();
-        Self { robot, body, name, shape: parry, body_from_shape, reach, enabled: true }
+        let sphere = parry.compute_local_bounding_sphere();
+        let reach = sphere.radius() + body_from_shape.translation.length();
+        let many_vertices =
+            parry.as_convex_polyhedron().is_some() || parry.as_trimesh().is_some() || parry.as_compound().is_some();
+        let local_bounds = many_vertices.then(|| (parry.compute_local_aabb(), sphere));
+        Self { robot, body, name, shape: parry, body_from_shape, reach, local_bounds, enabled: true }
     }
 }
 
@@ -222,7 +231,15 @@ impl LinkColliders {
             let pose = world_from_body * link.body_from_shape;
             self.poses.push(pose);
             self.sweeps.push(sweep + 0.5 * margin);
-            self.aabbs.push(link.shape.compute_aabb(&pose).loosened(sweep + 0.5 * margin));
+            let aabb = match &link.local_bounds {
+                Some((local_aabb, sphere)) => {
+                    let (a, b) = (local_aabb.transform_by(&pose), sphere.transform_by(&pose));
+                    let b = Aabb::from_half_extents(b.center, DVec3::splat(b.radius));
+                    Aabb::new(a.mins.max(b.mins), a.maxs.min(b.maxs))
+                }
+                None => link.shape.compute_aabb(&pose),
+            };
+            self.aabbs.push(aabb.loosened(sweep + 0.5 * margin));
         }
     }
 
