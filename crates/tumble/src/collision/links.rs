@@ -30,7 +30,7 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::query::{
     ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
 };
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{PackedFeatureId, SharedShape};
 use std::collections::HashMap;
 
 /// One side of a contact: a body of the world, or a link shape (index into [`LinkColliders`]).
@@ -237,7 +237,18 @@ impl LinkColliders {
                     let b = Aabb::from_half_extents(b.center, DVec3::splat(b.radius));
                     Aabb::new(a.mins.max(b.mins), a.maxs.min(b.maxs))
                 }
-                None => link.shape.compute_aabb(&pose),
+                None => match link.shape.as_cylinder() {
+                    // exact, in closed form (parry's takes six support points): about the axis
+                    // `a` (the shape's y), half extents `h |a_i| + r √(1 − a_i²)`
+                    Some(c) => {
+                        let axis = pose.rotation * DVec3::Y;
+                        let half = DVec3::from_array(axis.to_array().map(|a| {
+                            c.half_height * a.abs() + c.radius * (1.0 - a * a).max(0.0).sqrt()
+                        }));
+                        Aabb::from_half_extents(pose.translation, half)
+                    }
+                    None => link.shape.compute_aabb(&pose),
+                },
             };
             self.aabbs.push(aabb.loosened(sweep + 0.5 * margin));
         }
@@ -336,6 +347,39 @@ fn above_plane(shape: &SharedShape, pose: &Pose, aabb: &Aabb) -> bool {
     n.dot(center - pose.translation) - n.abs().dot(half) > 0.0
 }
 
+/// A sphere (centre `c`, radius `r`, side `b`) on a plane (side `a`, unit normal `n_a` in its own
+/// frame, through its origin), in closed form (a foot on the floor, with no support-map query): the
+/// centre's height `h = n·(c − p₀)`, the gap `h − r`, the point midway between the sphere's lowest
+/// point `c − r n` and the plane's `c − h n`, the normal `n` (from the plane to the sphere).
+#[allow(clippy::too_many_arguments)]
+fn plane_ball_contact(
+    side_a: Side,
+    pose_a: &Pose,
+    normal_a: DVec3,
+    side_b: Side,
+    center: DVec3,
+    radius: f64,
+    prediction: f64,
+    out: &mut Vec<LinkContact>,
+) {
+    let n = (pose_a.rotation * normal_a).normalize();
+    let height = n.dot(center - pose_a.translation);
+    let gap = height - radius;
+    if gap.is_nan() || gap > prediction {
+        return;
+    }
+    let point_world = center - 0.5 * (radius + height) * n;
+    let face = PackedFeatureId::face(0).0;
+    out.push(LinkContact {
+        a: side_a,
+        b: side_b,
+        point_world,
+        normal_world: n,
+        gap,
+        features: (feature_key(0, face), feature_key(0, face)),
+    });
+}
+
 /// parry's manifolds of one pair, written as contacts from side `a` to side `b`.
 fn manifold_contacts(
     cache: &mut PairCache,
@@ -344,6 +388,10 @@ fn manifold_contacts(
     prediction: f64,
     out: &mut Vec<LinkContact>,
 ) {
+    if let (Some(plane), Some(ball)) = (shape_a.as_halfspace(), shape_b.as_ball()) {
+        plane_ball_contact(side_a, pose_a, plane.normal, side_b, pose_b.translation, ball.radius, prediction, out);
+        return;
+    }
     let pos12 = pose_a.inv_mul(pose_b);
     let found = if shape_a.as_composite_shape().is_none() && shape_b.as_composite_shape().is_none() {
         // two convex shapes: one manifold, made in its own buffer (parry's half-space manifold

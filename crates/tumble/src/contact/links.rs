@@ -24,8 +24,18 @@
 //! round-off sent the wheel to 3.8e14 rad in one step).
 //!
 //! Per step, for each robot with a contact: `M(q₀)` by CRBA and its `LᵀDL` factor, each point's
-//! `J_c` and `W`, and the free acceleration `a₀ = ABA(q₀, v₀, τ(q₀, v₀))` (gravity, the joint forces
-//! and PD, held over the step as the free bodies' forces are). Then, as for the free bodies:
+//! `J_c`, and the free acceleration `a₀ = ABA(q₀, v₀, τ(q₀, v₀))` (gravity, the joint forces and PD,
+//! held over the step as the free bodies' forces are).
+//!
+//! **Contact space.** The solve never forms `W`: a robot's rows of the step (three per contact
+//! point, one per joint-limit row) make its contact space, with the Delassus matrix
+//! `G = J M⁻¹ Jᵀ = Yᵀ D⁻¹ Y`, `Y = L⁻ᵀ Jᵀ` (non-zero only on the coordinates on the path of each
+//! row's link to the root: branch-induced sparsity, Featherstone 2008, §6.5), and per row the
+//! velocity `u = J v`, the displacement `s = J d`, `J a₀`, and the impulses `P` applied so far. An
+//! impulse `Δp` on rows `k` changes every row's velocity by `G_{·k} Δp` (`O(rows)`, not `O(nv)`); a
+//! substep adds `h J a₀` to `u` and `h u` to `s`. After the substeps the joint-space results follow
+//! from one sparse solve each: `v = v₀ + dt a₀ + M⁻¹ Jᵀ P`, `d = dt v₀ + (Σ h t) a₀ + M⁻¹ Jᵀ Q` with
+//! `Q = Σ h P` over the substeps' moves, `τ_c = Jᵀ P / dt`. Then, as for the free bodies:
 //!
 //! 1. **Collisions**: a contact approaching faster than `impact_speed` whose gap closes within the
 //!    step at that speed is a collision, integrated through the impact with `K` and `u`
@@ -53,7 +63,7 @@ use crate::body::{Material, RigidBody};
 use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
 use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
-use crate::multibody::contact_point::{impulse_response, point_jacobian};
+use crate::multibody::contact_point::{chain_dot, delassus, path_dofs, point_jacobian};
 use crate::multibody::{aba, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
 use crate::world::Robot;
 use parry3d_f64::math::Pose;
@@ -87,7 +97,8 @@ pub struct RobotView<'a> {
 enum RowSide {
     Fixed,
     Body(usize),
-    /// A point of a robot link: `J_c` at `arena[off..off + 3 nv]`, `W` after it.
+    /// A point of a robot link: its three rows (world x, y, z) start at row `off` of the robot's
+    /// contact space.
     Robot {
         robot: usize,
         off: usize,
@@ -122,18 +133,16 @@ struct Row {
 }
 
 /// A joint-limit row of a robot the contact rows engage: `J = s e_iᵀ` in joint space (`s = +1` at a
-/// lower limit, `−1` at an upper one), one-sided, without friction; its response `W = M⁻¹ e_i s` in
-/// the arena. Solved in the same substeps as the contact rows, so that the two never fight.
+/// lower limit, `−1` at an upper one), one-sided, without friction; a row of the robot's contact
+/// space. Solved in the same substeps as the contact rows, so that the two never fight.
 #[derive(Debug, Clone, Copy)]
 struct LimitRow {
     robot: usize,
-    /// Index among the robot's limited coordinates (for the run report), and the velocity coordinate.
+    /// Index among the robot's limited coordinates (for the run report).
     limited: usize,
-    dof: usize,
-    sign: f64,
     /// Distance to the limit at the start of the step (rad or m; negative past it).
     gap: f64,
-    /// `W` at `arena[off..off + nv]`.
+    /// Its row in the robot's contact space.
     off: usize,
     normal_mass: f64,
     softness: Softness,
@@ -158,11 +167,31 @@ struct RobotSolve {
     nv: usize,
     ws: Workspace,
     tau: Vec<f64>,
-    /// `v₀`, the solver velocity, `a₀`, and the displacement `d = Σ h v` (velocity coordinates).
+    /// `v₀`, the velocity at the end of the substeps (from [`Self::velocity_change`]), `a₀`, and
+    /// the displacement `d = Σ h v` (velocity coordinates).
     v0: Vec<f64>,
     v: Vec<f64>,
     a0: Vec<f64>,
     d: Vec<f64>,
+    /// The contact space of the step (module text): per row its Jacobian row `J` and then
+    /// `Y = L⁻ᵀ Jᵀ` (`rows × nv`), its chain of coordinates (`chains[start..start + len]`), and
+    /// `G = J M⁻¹ Jᵀ` (`rows × rows`, row-major).
+    jac: Vec<f64>,
+    y: Vec<f64>,
+    chain_of: Vec<(usize, usize)>,
+    chains: Vec<usize>,
+    g: Vec<f64>,
+    /// Per row: `u = J v`, `s = J d`, `J a₀`, `J v₀`, the impulses applied `P`, and `Q = Σ h P`.
+    u: Vec<f64>,
+    s: Vec<f64>,
+    ja0: Vec<f64>,
+    u0: Vec<f64>,
+    p: Vec<f64>,
+    q: Vec<f64>,
+    /// Time the velocity was advanced by `h a₀` (s), `Σ h t` over the moves (s²), `Σ h` (s).
+    t_velocity: f64,
+    t_moves: f64,
+    t_moved: f64,
     /// What the robot's own step takes: `Δv` and, when held, `q₀ ⊕ d`.
     dv: Vec<f64>,
     q_end: Vec<f64>,
@@ -184,7 +213,6 @@ pub struct LinkStage {
     rows: Vec<Row>,
     limit_rows: Vec<LimitRow>,
     lambda_sums: Vec<[f64; 3]>,
-    arena: Vec<f64>,
     robots: Vec<RobotSolve>,
     previous: Vec<Previous>,
     /// The step (s).
@@ -269,7 +297,6 @@ impl LinkStage {
         self.impulses.clear();
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
         self.rows.clear();
-        self.arena.clear();
         self.dt = dt;
         if self.robots.len() != robots.len() {
             self.robots = robots.iter().map(|r| RobotSolve::new(&r.model)).collect();
@@ -300,6 +327,45 @@ impl LinkStage {
         self.lambda_sums.clear();
         self.lambda_sums.resize(self.rows.len(), [0.0; 3]);
         self.limit_rows(robots, soft_fixed);
+        // the rows of every engaged robot are known: its contact space, then each row's K
+        for (solve, robot) in self.robots.iter_mut().zip(robots) {
+            if solve.engaged {
+                solve.contact_space(robot.contact_view().model);
+            }
+        }
+        for i in 0..self.rows.len() {
+            let k = self.rows[i].k + self.robot_k(&self.rows[i]);
+            self.rows[i].set_k(k);
+        }
+        for row in &mut self.limit_rows {
+            let solve = &self.robots[row.robot];
+            let k_ii = solve.g[row.off * solve.rows() + row.off];
+            row.normal_mass = if k_ii > 0.0 { 1.0 / k_ii } else { 0.0 };
+        }
+    }
+
+    /// The robots' part of a row's `K`: `Σ_{s,s' same robot} σ_s σ_s' G_{ss'}` (3 × 3 blocks of
+    /// the robot's `G`).
+    fn robot_k(&self, row: &Row) -> DMat3 {
+        let mut k = DMat3::ZERO;
+        for (s, sigma) in [(row.a, -1.0), (row.b, 1.0)] {
+            for (s2, sigma2) in [(row.a, -1.0), (row.b, 1.0)] {
+                if let (RowSide::Robot { robot, off }, RowSide::Robot { robot: robot2, off: off2 }) = (s, s2) {
+                    if robot == robot2 {
+                        let solve = &self.robots[robot];
+                        let n = solve.rows();
+                        let g = |r: usize, c: usize| solve.g[(off + r) * n + off2 + c];
+                        let block = DMat3::from_cols(
+                            DVec3::new(g(0, 0), g(1, 0), g(2, 0)),
+                            DVec3::new(g(0, 1), g(1, 1), g(2, 1)),
+                            DVec3::new(g(0, 2), g(1, 2), g(2, 2)),
+                        );
+                        k += sigma * sigma2 * block;
+                    }
+                }
+            }
+        }
+        k
     }
 
     /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
@@ -312,31 +378,22 @@ impl LinkStage {
             }
             let view = robot.contact_view();
             let Some(limits) = view.limits else { continue };
-            let nv = self.robots[r].nv;
             for (k, (qi, vi, lower, upper)) in limits.bounds().enumerate() {
-                let (q, v) = (view.q[qi], self.robots[r].v[vi]);
+                let (q, v) = (view.q[qi], self.robots[r].v0[vi]);
                 for (sign, gap) in [(1.0, q - lower), (-1.0, upper - q)] {
                     if gap > v.abs() * self.dt + LIMIT_MARGIN {
                         continue;
                     }
-                    // W = M⁻¹ s e_i
-                    let off = self.arena.len();
-                    self.arena.resize(off + nv, 0.0);
-                    let w = &mut self.arena[off..off + nv];
-                    w[vi] = sign;
-                    if crate::multibody::ltdl_solve(view.model, &self.robots[r].ws, w).is_err() {
-                        self.arena.truncate(off);
-                        continue;
-                    }
-                    let k_ii = sign * self.arena[off + vi];
+                    // J = s e_iᵀ; its chain: coordinate i and those above it
+                    let solve = &mut self.robots[r];
+                    let off = solve.add_rows(1, dof_chain(view.model, vi));
+                    solve.jac[off * solve.nv + vi] = sign;
                     self.limit_rows.push(LimitRow {
                         robot: r,
                         limited: k,
-                        dof: vi,
-                        sign,
                         gap,
                         off,
-                        normal_mass: if k_ii > 0.0 { 1.0 / k_ii } else { 0.0 },
+                        normal_mass: 0.0,
                         softness: soft,
                         lambda: 0.0,
                     });
@@ -345,8 +402,9 @@ impl LinkStage {
         }
     }
 
-    /// The row side of a contact side: a robot link's Jacobian and response go into the arena (its
-    /// robot's `M` and `a₀` are computed at its first row of the step).
+    /// The row side of a contact side: a robot link's point adds three rows to its robot's contact
+    /// space, with their Jacobian (the robot's `M` and `a₀` are computed at its first row of the
+    /// step).
     fn side(&mut self, side: Side, point: DVec3, bodies: &[RigidBody], robots: &[Robot]) -> RowSide {
         match side {
             Side::Body(i) if bodies[i].fixed => RowSide::Fixed,
@@ -361,13 +419,9 @@ impl LinkStage {
                     return RowSide::Fixed;
                 }
                 let nv = solve.nv;
-                let off = self.arena.len();
-                self.arena.resize(off + 6 * nv, 0.0);
-                let (jac, w) = self.arena[off..].split_at_mut(3 * nv);
-                if point_jacobian(view.model, &solve.ws, body, point, jac).is_err()
-                    || impulse_response(view.model, &solve.ws, jac, w).is_err()
-                {
-                    self.arena.truncate(off);
+                let off = solve.add_rows(3, path_dofs(view.model, body));
+                if point_jacobian(view.model, &solve.ws, body, point, &mut solve.jac[off * nv..(off + 3) * nv]).is_err() {
+                    solve.truncate_rows(off);
                     return RowSide::Fixed;
                 }
                 RowSide::Robot { robot, off }
@@ -402,27 +456,6 @@ impl LinkStage {
                 k += super::collision_matrix(sb.inv_mass, sb.inv_inertia, r, 0.0, DMat3::ZERO, DVec3::ZERO);
             }
         }
-        for (s, sigma) in [(a, -1.0), (b, 1.0)] {
-            for (s2, sigma2) in [(a, -1.0), (b, 1.0)] {
-                if let (RowSide::Robot { robot, off }, RowSide::Robot { robot: robot2, off: off2 }) = (s, s2) {
-                    if robot == robot2 {
-                        let nv = self.robots[robot].nv;
-                        let jac = &self.arena[off..off + 3 * nv];
-                        let w = &self.arena[off2 + 3 * nv..off2 + 6 * nv];
-                        k += sigma * sigma2 * crate::multibody::contact_point::collision_matrix(jac, w, nv);
-                    }
-                }
-            }
-        }
-        let knn = n.dot(k * n);
-        let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
-        let det = k11 * k22 - k12 * k12;
-        // a direction in which the point cannot move has K = 0 up to the round-off of J (a link
-        // fixed along the normal, a wheel's contact point on its axle's plane): 1/K would turn that
-        // round-off into an unbounded impulse, so it counts as zero below ε tr(K)
-        let round_off = SINGULAR_EPSILON * (k.x_axis.x + k.y_axis.y + k.z_axis.z);
-        let tangent_mass =
-            if det > round_off * (k11 + k22) { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
         let ang = |s: RowSide, r: DVec3| match s {
             RowSide::Body(i) => [n, t1, t2].map(|d| bodies[i].inv_inertia * r.cross(d)),
             _ => [DVec3::ZERO; 3],
@@ -437,10 +470,12 @@ impl LinkStage {
             t2,
             gap: c.gap,
             adjusted_gap: c.gap - n.dot(r_b - r_a),
+            // the free bodies' part; the robots' part and the masses come with the contact space
+            // (`set_k`)
             k,
-            normal_mass: if knn > round_off { 1.0 / knn } else { 0.0 },
-            tangent_mass,
-            tangent_k: [k11, k12, k22],
+            normal_mass: 0.0,
+            tangent_mass: [0.0; 4],
+            tangent_k: [0.0; 3],
             ang_a: ang(a, r_a),
             ang_b: ang(b, r_b),
             mu,
@@ -468,7 +503,7 @@ impl LinkStage {
                 let k = row.k + SINGULAR_EPSILON * (row.k.x_axis.x + row.k.y_axis.y + row.k.z_axis.z) * DMat3::IDENTITY;
                 let Some(impact) = collide(k, row.n, u, row.mu, row.e, settings.law) else { continue };
                 let p = impact.impulse_world;
-                apply(&mut self.robots, &self.arena, bodies, row, p);
+                apply(&mut self.robots, bodies, row, p);
                 self.impulses[i] += p;
                 self.impacts += 1;
                 self.energy_lost += impact.energy_lost;
@@ -481,8 +516,9 @@ impl LinkStage {
         }
         for r in &mut self.robots {
             if r.engaged {
-                r.struck = r.v != r.v0;
-                r.impact_loss = if r.struck { kinetic(&r.ws, &r.v0) - kinetic(&r.ws, &r.v) } else { 0.0 };
+                r.struck = r.p.iter().any(|&p| p != 0.0);
+                // T(v₀) − T(v₀ + W P) = −(J v₀)·P − ½ Pᵀ G P
+                r.impact_loss = if r.struck { -(dot(&r.u0, &r.p) + 0.5 * r.quadratic(&r.p)) } else { 0.0 };
             }
         }
         any
@@ -504,8 +540,7 @@ impl LinkStage {
 
     /// The velocity of side `b` relative to side `a` at the row's point (m/s, world frame).
     fn velocity(&self, row: &Row, bodies: &[SolverBody]) -> DVec3 {
-        side_velocity(&self.robots, &self.arena, bodies, row.b, row.r_b)
-            - side_velocity(&self.robots, &self.arena, bodies, row.a, row.r_a)
+        side_velocity(&self.robots, bodies, row.b, row.r_b) - side_velocity(&self.robots, bodies, row.a, row.r_a)
     }
 
     /// The free bodies the rows move (to add to the solver's active bodies).
@@ -516,21 +551,28 @@ impl LinkStage {
         })
     }
 
-    /// Substep: the robots' velocities gain `h a₀`.
+    /// Substep: the robots' velocities gain `h a₀` (their rows' `u` gain `h J a₀`).
     pub(super) fn integrate_velocity(&mut self, h: f64) {
         for r in self.robots.iter_mut().filter(|r| r.engaged) {
-            for (v, a) in r.v.iter_mut().zip(&r.a0) {
-                *v += h * a;
+            for (u, ja) in r.u.iter_mut().zip(&r.ja0) {
+                *u += h * ja;
             }
+            r.t_velocity += h;
         }
     }
 
-    /// Substep: the robots' displacements grow by `h v`.
+    /// Substep: the robots' displacements grow by `h v` (their rows' `s` by `h u`, and `Q` by
+    /// `h P`).
     pub(super) fn integrate_position(&mut self, h: f64) {
         for r in self.robots.iter_mut().filter(|r| r.engaged) {
-            for (d, v) in r.d.iter_mut().zip(&r.v) {
-                *d += h * v;
+            for (s, u) in r.s.iter_mut().zip(&r.u) {
+                *s += h * u;
             }
+            for (q, p) in r.q.iter_mut().zip(&r.p) {
+                *q += h * p;
+            }
+            r.t_moves += h * r.t_velocity;
+            r.t_moved += h;
         }
     }
 
@@ -539,7 +581,7 @@ impl LinkStage {
         for row in &self.rows {
             if row.lambda != [0.0; 3] {
                 let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
-                apply(&mut self.robots, &self.arena, bodies, row, p);
+                apply(&mut self.robots, bodies, row, p);
             }
         }
     }
@@ -553,7 +595,7 @@ impl LinkStage {
             if row.speculative && -un > sweep.impact_speed {
                 if row.lambda != [0.0; 3] {
                     let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
-                    apply(&mut self.robots, &self.arena, bodies, &row, -p);
+                    apply(&mut self.robots, bodies, &row, -p);
                     self.rows[i].lambda = [0.0; 3];
                 }
                 continue;
@@ -561,8 +603,8 @@ impl LinkStage {
             // the separation now: gap + n·(Δp_b − Δp_a)
             let s = row.adjusted_gap
                 + row.n.dot(
-                    side_displacement(&self.robots, &self.arena, bodies, row.b, row.r_b)
-                        - side_displacement(&self.robots, &self.arena, bodies, row.a, row.r_a),
+                    side_displacement(&self.robots, bodies, row.b, row.r_b)
+                        - side_displacement(&self.robots, bodies, row.a, row.r_a),
                 );
             let (bias, mass_scale, impulse_scale) = if s > 0.0 {
                 (s * sweep.inv_h, 1.0, 0.0)
@@ -594,7 +636,7 @@ impl LinkStage {
             self.rows[i].lambda = [new, l1, l2];
             if dn != 0.0 || d1 != 0.0 || d2 != 0.0 {
                 let p = dn * row.n + d1 * row.t1 + d2 * row.t2;
-                apply(&mut self.robots, &self.arena, bodies, &row, p);
+                apply(&mut self.robots, bodies, &row, p);
             }
             if self.rows[i].lambda != [0.0; 3] {
                 mark_touched(&mut self.robots, bodies, &row);
@@ -606,8 +648,9 @@ impl LinkStage {
     pub(super) fn solve_limits(&mut self, sweep: &Sweep) {
         for row in self.limit_rows.iter_mut() {
             let solve = &mut self.robots[row.robot];
-            let u = row.sign * solve.v[row.dof];
-            let s = row.gap + row.sign * solve.d[row.dof];
+            // u = J v = s v_i, and s d_i (the row's J holds the sign)
+            let u = solve.u[row.off];
+            let s = row.gap + solve.s[row.off];
             let (bias, mass_scale, impulse_scale) = if s > 0.0 {
                 (s * sweep.inv_h, 1.0, 0.0)
             } else if sweep.pass == Pass::Solve {
@@ -620,10 +663,7 @@ impl LinkStage {
             let d = new - row.lambda;
             row.lambda = new;
             if d != 0.0 {
-                let nv = solve.nv;
-                for (v, w) in solve.v.iter_mut().zip(&self.arena[row.off..row.off + nv]) {
-                    *v += d * w;
-                }
+                solve.impulse(row.off, d);
             }
             if new != 0.0 {
                 solve.touched = true;
@@ -635,11 +675,7 @@ impl LinkStage {
     pub(super) fn warm_start_limits(&mut self) {
         for row in &self.limit_rows {
             if row.lambda != 0.0 {
-                let solve = &mut self.robots[row.robot];
-                let nv = solve.nv;
-                for (v, w) in solve.v.iter_mut().zip(&self.arena[row.off..row.off + nv]) {
-                    *v += row.lambda * w;
-                }
+                self.robots[row.robot].impulse(row.off, row.lambda);
             }
         }
     }
@@ -685,24 +721,25 @@ impl LinkStage {
             }
             let view = robot.contact_view();
             if r.touched {
-                // where the substeps put it, q₀ ⊕ d, and the contact's generalized force over the
-                // step, τ_c = Jᵀ Λ / dt = M (v_solver − v₀ − a₀ dt) / dt
+                // where the substeps put it, q₀ ⊕ d, d = (Σ h) v₀ + (Σ h t) a₀ + M⁻¹ Jᵀ Q
+                r.velocity_change(view.model, Impulses::Integral);
+                for i in 0..r.nv {
+                    r.d[i] = r.t_moved * r.v0[i] + r.t_moves * r.a0[i] + r.dv[i];
+                }
                 if view.model.integrate(view.q, &r.d, 1.0, &mut r.q_end).is_err() {
                     r.touched = false;
                 }
+                // the contact's generalized force over the step, τ_c = Jᵀ P / dt, and the end
+                // velocity v₀ + dt a₀ + M⁻¹ Jᵀ P
+                r.contact_force(dt);
+                r.velocity_change(view.model, Impulses::Applied);
                 for i in 0..r.nv {
-                    r.dv[i] = (r.v[i] - (r.v0[i] + r.a0[i] * dt)) / dt;
-                }
-                let m = &r.ws.mass_matrix;
-                for i in 0..r.nv {
-                    r.tau_c[i] = (0..r.nv).map(|j| m[(i, j)] * r.dv[j]).sum();
+                    r.v[i] = r.v0[i] + dt * r.a0[i] + r.dv[i];
                 }
             }
             if r.struck && !r.touched {
-                // the collisions' Δv alone: v after them is v₀ + Δv, before the substeps' h a₀
-                for i in 0..r.nv {
-                    r.dv[i] = r.v[i] - (r.v0[i] + r.a0[i] * dt);
-                }
+                // the collisions' Δv alone, W P
+                r.velocity_change(view.model, Impulses::Applied);
             }
         }
     }
@@ -715,7 +752,7 @@ impl LinkStage {
             return None;
         }
         if r.touched {
-            Some(ContactChange::Held { q: &r.q_end, tau: &r.tau_c })
+            Some(ContactChange::Held { q: &r.q_end, tau: &r.tau_c, v: &r.v })
         } else if r.struck {
             Some(ContactChange::Impulse(&r.dv))
         } else {
@@ -751,6 +788,20 @@ impl RobotSolve {
             dv: vec![0.0; nv],
             q_end: vec![0.0; model.nq()],
             tau_c: vec![0.0; nv],
+            jac: Vec::new(),
+            y: Vec::new(),
+            chain_of: Vec::new(),
+            chains: Vec::new(),
+            g: Vec::new(),
+            u: Vec::new(),
+            s: Vec::new(),
+            ja0: Vec::new(),
+            u0: Vec::new(),
+            p: Vec::new(),
+            q: Vec::new(),
+            t_velocity: 0.0,
+            t_moves: 0.0,
+            t_moved: 0.0,
             struck: false,
             touched: false,
             impact_loss: 0.0,
@@ -775,47 +826,196 @@ impl RobotSolve {
         self.d.fill(0.0);
         self.dv.fill(0.0);
         self.impact_loss = 0.0;
+        self.jac.clear();
+        self.chain_of.clear();
+        self.chains.clear();
         self.engaged = true;
         true
     }
+
+    /// Rows in the contact space.
+    fn rows(&self) -> usize {
+        self.chain_of.len()
+    }
+
+    /// Adds `count` rows moved by the coordinates `chain` (deepest first, closed under the parent
+    /// relation), their Jacobian rows zero; returns the first one's index.
+    fn add_rows(&mut self, count: usize, chain: impl Iterator<Item = usize>) -> usize {
+        let first = self.rows();
+        let start = self.chains.len();
+        self.chains.extend(chain);
+        let len = self.chains.len() - start;
+        for _ in 0..count {
+            self.chain_of.push((start, len));
+        }
+        self.jac.resize(self.jac.len() + count * self.nv, 0.0);
+        first
+    }
+
+    /// Removes the rows from `first` on (added last).
+    fn truncate_rows(&mut self, first: usize) {
+        if let Some(&(start, _)) = self.chain_of.get(first) {
+            self.chains.truncate(start);
+        }
+        self.chain_of.truncate(first);
+        self.jac.truncate(first * self.nv);
+    }
+
+    /// The chain of row `i`.
+    fn chain(&self, i: usize) -> &[usize] {
+        let (start, len) = self.chain_of[i];
+        &self.chains[start..start + len]
+    }
+
+    /// Once every row is added: `Y`, `G`, and the rows' `J v₀`, `J a₀`; `u` at `v₀`, `s`, `P`, `Q`
+    /// zero.
+    fn contact_space(&mut self, model: &MultibodyModel) {
+        let (n, nv) = (self.rows(), self.nv);
+        self.y.clear();
+        self.y.extend_from_slice(&self.jac);
+        self.g.clear();
+        self.g.resize(n * n, 0.0);
+        delassus(model, &self.ws, &mut self.y, &self.chain_of, &self.chains, &mut self.g);
+        self.u0.clear();
+        self.ja0.clear();
+        for i in 0..n {
+            let (chain, jac) = (self.chain(i), &self.jac[i * nv..(i + 1) * nv]);
+            let (u0, ja0) = (chain_dot(chain, jac, &self.v0), chain_dot(chain, jac, &self.a0));
+            self.u0.push(u0);
+            self.ja0.push(ja0);
+        }
+        self.u.clear();
+        self.u.extend_from_slice(&self.u0);
+        for x in [&mut self.s, &mut self.p, &mut self.q] {
+            x.clear();
+            x.resize(n, 0.0);
+        }
+        self.t_velocity = 0.0;
+        self.t_moves = 0.0;
+        self.t_moved = 0.0;
+    }
+
+    /// An impulse `x` on row `k`: `P_k += x`, `u += G_{·k} x`.
+    #[inline]
+    fn impulse(&mut self, k: usize, x: f64) {
+        let n = self.rows();
+        self.p[k] += x;
+        for (u, g) in self.u.iter_mut().zip(&self.g[k * n..(k + 1) * n]) {
+            *u += g * x;
+        }
+    }
+
+    /// `Pᵀ G P` of the rows' vector `p`.
+    fn quadratic(&self, p: &[f64]) -> f64 {
+        let n = self.rows();
+        (0..n).map(|i| p[i] * dot(&self.g[i * n..(i + 1) * n], p)).sum()
+    }
+
+    /// `dv = M⁻¹ Jᵀ x` for `x` the applied impulses `P` or their integral `Q`: `L⁻¹ D⁻¹ (Y x)`.
+    fn velocity_change(&mut self, model: &MultibodyModel, which: Impulses) {
+        let nv = self.nv;
+        let x = match which {
+            Impulses::Applied => &self.p,
+            Impulses::Integral => &self.q,
+        };
+        self.dv.fill(0.0);
+        for (i, &xi) in x.iter().enumerate() {
+            if xi != 0.0 {
+                let (start, len) = self.chain_of[i];
+                let y = &self.y[i * nv..(i + 1) * nv];
+                for &k in &self.chains[start..start + len] {
+                    self.dv[k] += y[k] * xi;
+                }
+            }
+        }
+        crate::multibody::ltdl::ltdl_solve_lower(model, &self.ws, &mut self.dv);
+    }
+
+    /// `τ_c = Jᵀ P / dt`: the generalized force of the step's impulses over the step.
+    fn contact_force(&mut self, dt: f64) {
+        let nv = self.nv;
+        self.tau_c.fill(0.0);
+        for (i, &pi) in self.p.iter().enumerate() {
+            if pi != 0.0 {
+                let (start, len) = self.chain_of[i];
+                let jac = &self.jac[i * nv..(i + 1) * nv];
+                for &k in &self.chains[start..start + len] {
+                    self.tau_c[k] += jac[k] * pi / dt;
+                }
+            }
+        }
+    }
 }
 
-/// `T = ½ vᵀ M v` with the mass matrix of `ws` (J).
-fn kinetic(ws: &Workspace, v: &[f64]) -> f64 {
-    let m = &ws.mass_matrix;
-    let n = v.len();
-    0.5 * (0..n).map(|i| v[i] * (0..n).map(|j| m[(i, j)] * v[j]).sum::<f64>()).sum::<f64>()
+/// Which of a robot's per-row impulse vectors ([`RobotSolve::velocity_change`]).
+#[derive(Debug, Clone, Copy)]
+enum Impulses {
+    /// `P`, the impulses applied.
+    Applied,
+    /// `Q = Σ h P`, their integral over the substeps' moves.
+    Integral,
+}
+
+/// Velocity coordinate `k` and those above it, deepest first.
+fn dof_chain(model: &MultibodyModel, k: usize) -> impl Iterator<Item = usize> + '_ {
+    let mut next = k;
+    std::iter::from_fn(move || {
+        if next == crate::multibody::model::NONE {
+            return None;
+        }
+        let here = next;
+        next = model.dof_parent(next);
+        Some(here)
+    })
+}
+
+impl Row {
+    /// Sets `K` and the masses derived from it.
+    fn set_k(&mut self, k: DMat3) {
+        let (n, t1, t2) = (self.n, self.t1, self.t2);
+        let knn = n.dot(k * n);
+        let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
+        let det = k11 * k22 - k12 * k12;
+        // a direction in which the point cannot move has K = 0 up to the round-off of J (a link
+        // fixed along the normal, a wheel's contact point on its axle's plane): 1/K would turn that
+        // round-off into an unbounded impulse, so it counts as zero below ε tr(K)
+        let round_off = SINGULAR_EPSILON * (k.x_axis.x + k.y_axis.y + k.z_axis.z);
+        self.tangent_mass =
+            if det > round_off * (k11 + k22) { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        self.tangent_k = [k11, k12, k22];
+        self.normal_mass = if knn > round_off { 1.0 / knn } else { 0.0 };
+        self.k = k;
+    }
+}
+
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The world velocity of a row side at the point (`r` the offset from a free body's centre of mass).
 #[inline]
-fn side_velocity(robots: &[RobotSolve], arena: &[f64], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
+fn side_velocity(robots: &[RobotSolve], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
     match side {
         RowSide::Fixed => DVec3::ZERO,
         RowSide::Body(i) => bodies[i].v + bodies[i].w.cross(r),
-        RowSide::Robot { robot, off } => {
-            let s = &robots[robot];
-            crate::multibody::contact_point::point_velocity(&arena[off..off + 3 * s.nv], &s.v)
-        }
+        RowSide::Robot { robot, off } => DVec3::from_slice(&robots[robot].u[off..off + 3]),
     }
 }
 
 /// The displacement of a row side's point since the start of the step (m, world frame; a free
 /// body's as `Δx + ΔR r`, to be taken relative to `r`, as the free bodies' constraints do).
 #[inline]
-fn side_displacement(robots: &[RobotSolve], arena: &[f64], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
+fn side_displacement(robots: &[RobotSolve], bodies: &[SolverBody], side: RowSide, r: DVec3) -> DVec3 {
     match side {
         RowSide::Fixed => DVec3::ZERO,
         RowSide::Body(i) => bodies[i].dx + bodies[i].drot * r,
-        RowSide::Robot { robot, off } => {
-            let s = &robots[robot];
-            crate::multibody::contact_point::point_velocity(&arena[off..off + 3 * s.nv], &s.d)
-        }
+        RowSide::Robot { robot, off } => DVec3::from_slice(&robots[robot].s[off..off + 3]),
     }
 }
 
 /// Applies the impulse `p` (N·s, world frame) on side `b` and `−p` on side `a`.
-fn apply(robots: &mut [RobotSolve], arena: &[f64], bodies: &mut [SolverBody], row: &Row, p: DVec3) {
+fn apply(robots: &mut [RobotSolve], bodies: &mut [SolverBody], row: &Row, p: DVec3) {
     for (side, sign, ang) in [(row.a, -1.0, &row.ang_a), (row.b, 1.0, &row.ang_b)] {
         match side {
             RowSide::Fixed => {}
@@ -827,10 +1027,13 @@ fn apply(robots: &mut [RobotSolve], arena: &[f64], bodies: &mut [SolverBody], ro
                 sb.w += sign * (pn * ang[0] + p1 * ang[1] + p2 * ang[2]);
             }
             RowSide::Robot { robot, off } => {
-                // Δv = σ W p
+                // σ p on the point's three rows: u += G_{·k} σ p_k
                 let s = &mut robots[robot];
-                let nv = s.nv;
-                crate::multibody::contact_point::apply_impulse(&arena[off + 3 * nv..off + 6 * nv], sign * p, &mut s.v);
+                for (k, pk) in (sign * p).to_array().into_iter().enumerate() {
+                    if pk != 0.0 {
+                        s.impulse(off + k, pk);
+                    }
+                }
             }
         }
     }

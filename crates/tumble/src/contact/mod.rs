@@ -573,6 +573,9 @@ impl ContactStage {
         self.lambda_sums.resize(constraints.len(), [0.0; 3]);
         let links = &mut self.links;
         let with_links = !links.is_empty();
+        // a robot alone on the floor has no body constraint: the lanes' calls (one per colour and
+        // pass) are skipped
+        let with_bodies = !constraints.is_empty();
         for _ in 0..substeps {
             for &i in &self.active {
                 self.bodies[i].integrate_velocity(h);
@@ -580,7 +583,9 @@ impl ContactStage {
             if with_links {
                 links.integrate_velocity(h);
             }
-            lanes.warm_start(constraints, &mut self.bodies);
+            if with_bodies {
+                lanes.warm_start(constraints, &mut self.bodies);
+            }
             if with_links {
                 links.warm_start(&mut self.bodies);
                 links.warm_start_limits();
@@ -588,7 +593,9 @@ impl ContactStage {
             let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
                 let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
                 for _ in 0..settings.iterations {
-                    lanes.solve(constraints, bodies, &sweep);
+                    if with_bodies {
+                        lanes.solve(constraints, bodies, &sweep);
+                    }
                     if with_links {
                         links.solve(bodies, &sweep);
                         links.solve_limits(&sweep);
@@ -608,7 +615,9 @@ impl ContactStage {
             }
             // the impulse a constraint applied in this substep is its accumulated λ (the warm start
             // applied the λ it started with, the sweeps the changes)
-            lanes.accumulate(constraints, &mut self.lambda_sums);
+            if with_bodies {
+                lanes.accumulate(constraints, &mut self.lambda_sums);
+            }
         }
         lanes.store_lambdas(constraints);
         lanes.store_sums(&mut self.lambda_sums);

@@ -118,3 +118,44 @@ pub fn apply_impulse(w: &[f64], p: DVec3, v: &mut [f64]) {
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
+
+/// The Delassus matrix of a set of contact-space rows of one tree, `G = J M⁻¹ Jᵀ`, from the
+/// `LᵀDL` factor of `M` without forming `M⁻¹ Jᵀ`: with `Y = L⁻ᵀ Jᵀ`, `G = Yᵀ D⁻¹ Y`
+/// (Featherstone 2008, §6.5 and §8.4; the rows' `Y` are non-zero only on the coordinates that move
+/// them, so each entry costs the length of the shorter of the two chains).
+///
+/// `y`: `n` rows of length nv, holding `J` on entry and `Y` on return; row `i` is zero outside
+/// `chains[chain_of[i].0..][..chain_of[i].1]` (velocity coordinates, deepest first, closed under
+/// [`MultibodyModel::dof_parent`]). `g`: `n × n`, row-major, symmetric on return. Needs the factors
+/// of [`super::ltdl_factor`] in `ws`; lengths checked by the caller.
+pub(crate) fn delassus(
+    model: &MultibodyModel,
+    ws: &Workspace,
+    y: &mut [f64],
+    chain_of: &[(usize, usize)],
+    chains: &[usize],
+    g: &mut [f64],
+) {
+    let nv = model.nv();
+    let n = chain_of.len();
+    let chain = |i: usize| &chains[chain_of[i].0..chain_of[i].0 + chain_of[i].1];
+    for i in 0..n {
+        super::ltdl::ltdl_solve_upper_chain(model, ws, chain(i), &mut y[i * nv..(i + 1) * nv]);
+    }
+    for i in 0..n {
+        for j in i..n {
+            let shorter = if chain_of[i].1 <= chain_of[j].1 { chain(i) } else { chain(j) };
+            let (yi, yj) = (&y[i * nv..(i + 1) * nv], &y[j * nv..(j + 1) * nv]);
+            // G_ij = Σ_k Y_ki Y_kj / D_k
+            let g_ij: f64 = shorter.iter().map(|&k| yi[k] * yj[k] / ws.ltdl[(k, k)]).sum();
+            g[i * n + j] = g_ij;
+            g[j * n + i] = g_ij;
+        }
+    }
+}
+
+/// `J_row · x` over the row's chain (the only coordinates where `J_row` is not zero).
+#[inline]
+pub(crate) fn chain_dot(chain: &[usize], jac_row: &[f64], x: &[f64]) -> f64 {
+    chain.iter().map(|&k| jac_row[k] * x[k]).sum()
+}

@@ -179,8 +179,12 @@ pub enum ContactChange<'a> {
     /// `τ_c = Jᵀ Λ / dt`, which the integrator adds to the joint forces, and the configuration (nq)
     /// where the contact solver's substeps put the tree at the end of the step, which replaces the
     /// integrator's (it holds the overlap correction). The contact solver solved the joint limits
-    /// with the contacts: the limits' own phases are skipped.
-    Held { q: &'a [f64], tau: &'a [f64] },
+    /// with the contacts: the limits' own phases are skipped. `v`: the velocity at the end of the
+    /// step (nv), `v₀ + dt (a₀ + M⁻¹ τ_c)` with `a₀` the contact solver's own evaluation of the
+    /// dynamics at the start of the step — what semi-implicit and explicit Euler would compute
+    /// with `τ_c`, so that they take it instead of evaluating the dynamics a second time (one
+    /// dynamics pass per step); RK4 integrates with `τ_c`.
+    Held { q: &'a [f64], tau: &'a [f64], v: &'a [f64] },
 }
 
 /// How a [`Simulator`] steps.
@@ -302,9 +306,10 @@ impl Simulator {
                     *v += d;
                 }
             }
-            Some(ContactChange::Held { q, tau }) => {
+            Some(ContactChange::Held { q, tau, v }) => {
                 check_len("contact end configuration", q.len(), model.nq())?;
                 check_len("contact force", tau.len(), model.nv())?;
+                check_len("contact end velocity", v.len(), model.nv())?;
                 self.tau_contact.copy_from_slice(tau);
                 self.contact_force = true;
             }
@@ -316,9 +321,16 @@ impl Simulator {
             limits.begin_step(&self.q);
             limits.apply(model, &mut self.ws, Phase::Impact, dt, &mut self.q, &mut self.v);
         }
-        match method {
-            Method::Rk4 => self.rk4(model, control, dt)?,
-            Method::SemiImplicitEuler => {
+        match (method, contact) {
+            (Method::SemiImplicitEuler | Method::Euler, Some(ContactChange::Held { v, .. })) => {
+                // the contact solve evaluated the dynamics at (q₀, v₀): its end velocity is this
+                // step's (the configuration is the substeps', below); the forces only for the
+                // effort clamps' count
+                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                self.v.copy_from_slice(v);
+            }
+            (Method::Rk4, _) => self.rk4(model, control, dt)?,
+            (Method::SemiImplicitEuler, _) => {
                 // v ← v + dt v̇(q, v);  q ← q ⊕ v dt
                 control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 self.add_contact_force();
@@ -329,7 +341,7 @@ impl Simulator {
                 self.q_stage.copy_from_slice(&self.q);
                 model.integrate(&self.q_stage, &self.v, dt, &mut self.q)?;
             }
-            Method::Euler => {
+            (Method::Euler, _) => {
                 // q ← q ⊕ v dt and v ← v + dt v̇(q, v), from the old (q, v)
                 control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 self.add_contact_force();
