@@ -64,7 +64,7 @@ use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
 use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::contact_point::{chain_dot, delassus, path_dofs, point_jacobian};
-use crate::multibody::{aba, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
+use crate::multibody::{bias_forces, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
 use crate::world::Robot;
 use parry3d_f64::math::Pose;
 
@@ -178,6 +178,8 @@ struct RobotSolve {
     /// `G = J M⁻¹ Jᵀ` (`rows × rows`, row-major).
     jac: Vec<f64>,
     y: Vec<f64>,
+    /// `D^{-1/2} Y` (scratch of [`delassus`]).
+    y_scaled: Vec<f64>,
     chain_of: Vec<(usize, usize)>,
     chains: Vec<usize>,
     g: Vec<f64>,
@@ -588,23 +590,25 @@ impl LinkStage {
 
     /// One Gauss–Seidel pass over the rows (as [`super::solver::Constraint::solve`]).
     pub(super) fn solve(&mut self, bodies: &mut [SolverBody], sweep: &Sweep) {
-        for i in 0..self.rows.len() {
-            let row = self.rows[i];
-            let u = self.velocity(&row, bodies);
+        // the row by reference (a copy of it per solve was a memmove of 400 bytes)
+        let (rows, robots) = (&mut self.rows, &mut self.robots);
+        for i in 0..rows.len() {
+            let row = &rows[i];
+            let u = side_velocity(robots, bodies, row.b, row.r_b) - side_velocity(robots, bodies, row.a, row.r_a);
             let un = u.dot(row.n);
             if row.speculative && -un > sweep.impact_speed {
                 if row.lambda != [0.0; 3] {
                     let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
-                    apply(&mut self.robots, bodies, &row, -p);
-                    self.rows[i].lambda = [0.0; 3];
+                    apply(robots, bodies, row, -p);
+                    rows[i].lambda = [0.0; 3];
                 }
                 continue;
             }
             // the separation now: gap + n·(Δp_b − Δp_a)
             let s = row.adjusted_gap
                 + row.n.dot(
-                    side_displacement(&self.robots, bodies, row.b, row.r_b)
-                        - side_displacement(&self.robots, bodies, row.a, row.r_a),
+                    side_displacement(robots, bodies, row.b, row.r_b)
+                        - side_displacement(robots, bodies, row.a, row.r_a),
                 );
             let (bias, mass_scale, impulse_scale) = if s > 0.0 {
                 (s * sweep.inv_h, 1.0, 0.0)
@@ -633,14 +637,14 @@ impl LinkStage {
                 l2 *= scale;
             }
             let (d1, d2) = (l1 - lambda[1], l2 - lambda[2]);
-            self.rows[i].lambda = [new, l1, l2];
             if dn != 0.0 || d1 != 0.0 || d2 != 0.0 {
                 let p = dn * row.n + d1 * row.t1 + d2 * row.t2;
-                apply(&mut self.robots, bodies, &row, p);
+                apply(robots, bodies, row, p);
             }
-            if self.rows[i].lambda != [0.0; 3] {
-                mark_touched(&mut self.robots, bodies, &row);
+            if [new, l1, l2] != [0.0; 3] {
+                mark_touched(robots, bodies, row);
             }
+            rows[i].lambda = [new, l1, l2];
         }
     }
 
@@ -790,6 +794,7 @@ impl RobotSolve {
             tau_c: vec![0.0; nv],
             jac: Vec::new(),
             y: Vec::new(),
+            y_scaled: Vec::new(),
             chain_of: Vec::new(),
             chains: Vec::new(),
             g: Vec::new(),
@@ -808,19 +813,27 @@ impl RobotSolve {
         }
     }
 
-    /// `M(q₀)` and its factor, `a₀ = ABA(q₀, v₀, τ(q₀, v₀))`, and the solver's state at `v₀`.
+    /// `M(q₀)` and its factor, `a₀ = M⁻¹ (τ(q₀, v₀) − C(q₀, v₀))`, and the solver's state at `v₀`.
     /// `false` if the dynamics cannot be evaluated (the robot then takes no contact this step).
     fn engage(&mut self, view: &RobotView) -> bool {
         let (model, q, v) = (view.model, view.q, view.v);
         if crba(model, &mut self.ws, q).is_err() || ltdl_factor(model, &mut self.ws).is_err() {
             return false;
         }
+        // a₀ = M⁻¹ (τ − C(q, v)) with the factor at hand: the bias forces by RNEA and one solve
+        // (cheaper than a second articulated-body pass)
         if view.control.joint_forces(model, q, v, &mut self.tau).is_err()
-            || aba(model, &mut self.ws, q, v, &self.tau, &mut self.a0).is_err()
+            || bias_forces(model, &mut self.ws, q, v, &mut self.a0).is_err()
         {
             return false;
         }
-        // ABA overwrote the placements with those of the same q: the CRBA's s_world still hold
+        for (a, t) in self.a0.iter_mut().zip(&self.tau) {
+            *a = t - *a;
+        }
+        if crate::multibody::ltdl_solve(model, &self.ws, &mut self.a0).is_err() {
+            return false;
+        }
+        // RNEA overwrote the placements with those of the same q: the CRBA's s_world still hold
         self.v0.copy_from_slice(v);
         self.v.copy_from_slice(v);
         self.d.fill(0.0);
@@ -873,9 +886,11 @@ impl RobotSolve {
         let (n, nv) = (self.rows(), self.nv);
         self.y.clear();
         self.y.extend_from_slice(&self.jac);
+        self.y_scaled.clear();
+        self.y_scaled.resize(self.y.len(), 0.0);
         self.g.clear();
         self.g.resize(n * n, 0.0);
-        delassus(model, &self.ws, &mut self.y, &self.chain_of, &self.chains, &mut self.g);
+        delassus(model, &self.ws, &mut self.y, &mut self.y_scaled, &self.chain_of, &self.chains, &mut self.g);
         self.u0.clear();
         self.ja0.clear();
         for i in 0..n {

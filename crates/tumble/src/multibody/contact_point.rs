@@ -122,36 +122,59 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// The Delassus matrix of a set of contact-space rows of one tree, `G = J M⁻¹ Jᵀ`, from the
 /// `LᵀDL` factor of `M` without forming `M⁻¹ Jᵀ`: with `Y = L⁻ᵀ Jᵀ`, `G = Yᵀ D⁻¹ Y`
 /// (Featherstone 2008, §6.5 and §8.4; the rows' `Y` are non-zero only on the coordinates that move
-/// them, so each entry costs the length of the shorter of the two chains).
+/// them, so `Y` costs `O(d²)` per row for a path of `d` coordinates).
 ///
 /// `y`: `n` rows of length nv, holding `J` on entry and `Y` on return; row `i` is zero outside
 /// `chains[chain_of[i].0..][..chain_of[i].1]` (velocity coordinates, deepest first, closed under
-/// [`MultibodyModel::dof_parent`]). `g`: `n × n`, row-major, symmetric on return. Needs the factors
-/// of [`super::ltdl_factor`] in `ws`; lengths checked by the caller.
+/// [`MultibodyModel::dof_parent`]). `scaled`: scratch of the same length, `D^{-1/2} Y` on return
+/// (then `G_ij` is a plain dot product of two of its rows, which the compiler vectorises). `g`:
+/// `n × n`, row-major, symmetric on return. Needs the factors of [`super::ltdl_factor`] in `ws`;
+/// lengths checked by the caller.
 pub(crate) fn delassus(
     model: &MultibodyModel,
     ws: &Workspace,
     y: &mut [f64],
+    scaled: &mut [f64],
     chain_of: &[(usize, usize)],
     chains: &[usize],
     g: &mut [f64],
 ) {
     let nv = model.nv();
     let n = chain_of.len();
-    let chain = |i: usize| &chains[chain_of[i].0..chain_of[i].0 + chain_of[i].1];
     for i in 0..n {
-        super::ltdl::ltdl_solve_upper_chain(model, ws, chain(i), &mut y[i * nv..(i + 1) * nv]);
+        let chain = &chains[chain_of[i].0..chain_of[i].0 + chain_of[i].1];
+        let row = &mut y[i * nv..(i + 1) * nv];
+        super::ltdl::ltdl_solve_upper_chain(model, ws, chain, row);
+        let out = &mut scaled[i * nv..(i + 1) * nv];
+        out.fill(0.0);
+        for &k in chain {
+            out[k] = row[k] / ws.ltdl[(k, k)].sqrt();
+        }
     }
     for i in 0..n {
+        let yi = &scaled[i * nv..(i + 1) * nv];
         for j in i..n {
-            let shorter = if chain_of[i].1 <= chain_of[j].1 { chain(i) } else { chain(j) };
-            let (yi, yj) = (&y[i * nv..(i + 1) * nv], &y[j * nv..(j + 1) * nv]);
             // G_ij = Σ_k Y_ki Y_kj / D_k
-            let g_ij: f64 = shorter.iter().map(|&k| yi[k] * yj[k] / ws.ltdl[(k, k)]).sum();
+            let g_ij = dot4(yi, &scaled[j * nv..(j + 1) * nv]);
             g[i * n + j] = g_ij;
             g[j * n + i] = g_ij;
         }
     }
+}
+
+/// `a · b` in four interleaved partial sums (independent chains of additions, which the compiler
+/// keeps in one vector register).
+#[inline]
+fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ca.zip(cb) {
+        for l in 0..4 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
 }
 
 /// `J_row · x` over the row's chain (the only coordinates where `J_row` is not zero).
