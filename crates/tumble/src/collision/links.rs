@@ -220,10 +220,19 @@ impl LinkColliders {
         self.sweeps.clear();
         self.aabbs.clear();
         let margin = slop.max(PREDICTION_MARGIN);
+        // the shapes of one link come one after another: its motion is asked once
+        let mut last: Option<((usize, usize), BodyMotion)> = None;
         for link in &self.links {
             let (world_from_body, sweep) = match link.body {
                 Some(b) => {
-                    let m = motion(link.robot, b);
+                    let m = match last {
+                        Some((key, m)) if key == (link.robot, b) => m,
+                        _ => {
+                            let m = motion(link.robot, b);
+                            last = Some(((link.robot, b), m));
+                            m
+                        }
+                    };
                     (m.pose, (m.speed + m.angular_speed * link.reach) * dt)
                 }
                 None => (Pose::IDENTITY, 0.0),
@@ -291,8 +300,14 @@ impl LinkColliders {
                     out,
                 );
             }
-            // against the link shapes after it
+            // against the link shapes after it (a robot without self-collision skips its own
+            // links before any box test)
+            let robot = self.links[l].robot;
+            let own = !self.self_collision[robot];
             for m in l + 1..self.links.len() {
+                if own && self.links[m].robot == robot {
+                    continue;
+                }
                 if !self.aabbs[l].intersects(&self.aabbs[m]) || !self.pair_allowed(l, m) {
                     continue;
                 }

@@ -178,8 +178,10 @@ struct RobotSolve {
     /// `G = J M⁻¹ Jᵀ` (`rows × rows`, row-major).
     jac: Vec<f64>,
     y: Vec<f64>,
-    /// `D^{-1/2} Y` (scratch of [`delassus`]).
+    /// `D^{-1/2} Y` (scratch of [`delassus`]), and the factor's `1 / D_k`, `D_k^{-1/2}` (nv).
     y_scaled: Vec<f64>,
+    inv_d: Vec<f64>,
+    inv_sqrt_d: Vec<f64>,
     chain_of: Vec<(usize, usize)>,
     chains: Vec<usize>,
     g: Vec<f64>,
@@ -724,11 +726,11 @@ impl LinkStage {
                 continue;
             }
             let view = robot.contact_view();
+            r.velocity_changes(view.model);
             if r.touched {
                 // where the substeps put it, q₀ ⊕ d, d = (Σ h) v₀ + (Σ h t) a₀ + M⁻¹ Jᵀ Q
-                r.velocity_change(view.model, Impulses::Integral);
                 for i in 0..r.nv {
-                    r.d[i] = r.t_moved * r.v0[i] + r.t_moves * r.a0[i] + r.dv[i];
+                    r.d[i] += r.t_moved * r.v0[i] + r.t_moves * r.a0[i];
                 }
                 if view.model.integrate(view.q, &r.d, 1.0, &mut r.q_end).is_err() {
                     r.touched = false;
@@ -736,15 +738,11 @@ impl LinkStage {
                 // the contact's generalized force over the step, τ_c = Jᵀ P / dt, and the end
                 // velocity v₀ + dt a₀ + M⁻¹ Jᵀ P
                 r.contact_force(dt);
-                r.velocity_change(view.model, Impulses::Applied);
                 for i in 0..r.nv {
                     r.v[i] = r.v0[i] + dt * r.a0[i] + r.dv[i];
                 }
             }
-            if r.struck && !r.touched {
-                // the collisions' Δv alone, W P
-                r.velocity_change(view.model, Impulses::Applied);
-            }
+            // not held but struck: the collisions' Δv alone, W P, in `dv`
         }
     }
 
@@ -795,6 +793,8 @@ impl RobotSolve {
             jac: Vec::new(),
             y: Vec::new(),
             y_scaled: Vec::new(),
+            inv_d: Vec::new(),
+            inv_sqrt_d: Vec::new(),
             chain_of: Vec::new(),
             chains: Vec::new(),
             g: Vec::new(),
@@ -890,7 +890,14 @@ impl RobotSolve {
         self.y_scaled.resize(self.y.len(), 0.0);
         self.g.clear();
         self.g.resize(n * n, 0.0);
-        delassus(model, &self.ws, &mut self.y, &mut self.y_scaled, &self.chain_of, &self.chains, &mut self.g);
+        self.inv_d.clear();
+        self.inv_sqrt_d.clear();
+        for k in 0..nv {
+            let d = self.ws.ltdl[(k, k)];
+            self.inv_d.push(1.0 / d);
+            self.inv_sqrt_d.push(1.0 / d.sqrt());
+        }
+        delassus(model, &self.ws, &self.inv_sqrt_d, &mut self.y, &mut self.y_scaled, &self.chain_of, &self.chains, &mut self.g);
         self.u0.clear();
         self.ja0.clear();
         for i in 0..n {
@@ -926,24 +933,24 @@ impl RobotSolve {
         (0..n).map(|i| p[i] * dot(&self.g[i * n..(i + 1) * n], p)).sum()
     }
 
-    /// `dv = M⁻¹ Jᵀ x` for `x` the applied impulses `P` or their integral `Q`: `L⁻¹ D⁻¹ (Y x)`.
-    fn velocity_change(&mut self, model: &MultibodyModel, which: Impulses) {
+    /// `M⁻¹ Jᵀ P` into `dv` and `M⁻¹ Jᵀ Q` into `d` (the applied impulses and their integral
+    /// over the moves): `L⁻¹ D⁻¹ (Y x)`, both in one walk of the tree.
+    fn velocity_changes(&mut self, model: &MultibodyModel) {
         let nv = self.nv;
-        let x = match which {
-            Impulses::Applied => &self.p,
-            Impulses::Integral => &self.q,
-        };
         self.dv.fill(0.0);
-        for (i, &xi) in x.iter().enumerate() {
-            if xi != 0.0 {
+        self.d.fill(0.0);
+        for i in 0..self.rows() {
+            let (pi, qi) = (self.p[i], self.q[i]);
+            if pi != 0.0 || qi != 0.0 {
                 let (start, len) = self.chain_of[i];
                 let y = &self.y[i * nv..(i + 1) * nv];
                 for &k in &self.chains[start..start + len] {
-                    self.dv[k] += y[k] * xi;
+                    self.dv[k] += y[k] * pi;
+                    self.d[k] += y[k] * qi;
                 }
             }
         }
-        crate::multibody::ltdl::ltdl_solve_lower(model, &self.ws, &mut self.dv);
+        crate::multibody::ltdl::ltdl_solve_lower_pair(model, &self.ws, &self.inv_d, &mut self.dv, &mut self.d);
     }
 
     /// `τ_c = Jᵀ P / dt`: the generalized force of the step's impulses over the step.
@@ -960,15 +967,6 @@ impl RobotSolve {
             }
         }
     }
-}
-
-/// Which of a robot's per-row impulse vectors ([`RobotSolve::velocity_change`]).
-#[derive(Debug, Clone, Copy)]
-enum Impulses {
-    /// `P`, the impulses applied.
-    Applied,
-    /// `Q = Σ h P`, their integral over the substeps' moves.
-    Integral,
 }
 
 /// Velocity coordinate `k` and those above it, deepest first.

@@ -127,12 +127,14 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// `y`: `n` rows of length nv, holding `J` on entry and `Y` on return; row `i` is zero outside
 /// `chains[chain_of[i].0..][..chain_of[i].1]` (velocity coordinates, deepest first, closed under
 /// [`MultibodyModel::dof_parent`]). `scaled`: scratch of the same length, `D^{-1/2} Y` on return
-/// (then `G_ij` is a plain dot product of two of its rows, which the compiler vectorises). `g`:
+/// (then `G_ij` is a plain dot product of two of its rows, which the compiler vectorises), with
+/// `inv_sqrt_d` the `D_k^{-1/2}` of the factor (nv). `g`:
 /// `n × n`, row-major, symmetric on return. Needs the factors of [`super::ltdl_factor`] in `ws`;
 /// lengths checked by the caller.
 pub(crate) fn delassus(
     model: &MultibodyModel,
     ws: &Workspace,
+    inv_sqrt_d: &[f64],
     y: &mut [f64],
     scaled: &mut [f64],
     chain_of: &[(usize, usize)],
@@ -148,7 +150,7 @@ pub(crate) fn delassus(
         let out = &mut scaled[i * nv..(i + 1) * nv];
         out.fill(0.0);
         for &k in chain {
-            out[k] = row[k] / ws.ltdl[(k, k)].sqrt();
+            out[k] = row[k] * inv_sqrt_d[k];
         }
     }
     for i in 0..n {

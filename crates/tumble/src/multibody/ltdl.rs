@@ -115,18 +115,22 @@ pub(crate) fn ltdl_solve_upper_chain(model: &MultibodyModel, ws: &Workspace, cha
     }
 }
 
-/// The last two stages of [`ltdl_solve`]: `x ← L⁻¹ D⁻¹ x` (after [`ltdl_solve_upper_chain`] or
-/// the first stage of the solve, this completes `x = M⁻¹ b`). Lengths checked by the caller.
-pub(crate) fn ltdl_solve_lower(model: &MultibodyModel, ws: &Workspace, x: &mut [f64]) {
+/// The last two stages of [`ltdl_solve`], `x ← L⁻¹ D⁻¹ x` (after [`ltdl_solve_upper_chain`] or the
+/// first stage of the solve, this completes `x = M⁻¹ b`), on two right-hand sides at once, with
+/// `inv_d` the inverse pivots `1 / D_k` (nv): one walk of the tree for both. Lengths checked by the caller.
+pub(crate) fn ltdl_solve_lower_pair(model: &MultibodyModel, ws: &Workspace, inv_d: &[f64], x: &mut [f64], y: &mut [f64]) {
     let h = &ws.ltdl;
     let nv = x.len();
-    for (k, x_k) in x.iter_mut().enumerate() {
-        *x_k /= h[(k, k)];
+    for k in 0..nv {
+        x[k] *= inv_d[k];
+        y[k] *= inv_d[k];
     }
     for k in 0..nv {
         let mut i = model.dof_parent(k);
         while i != NONE {
-            x[k] -= h[(k, i)] * x[i];
+            let l = h[(k, i)];
+            x[k] -= l * x[i];
+            y[k] -= l * y[i];
             i = model.dof_parent(i);
         }
     }
