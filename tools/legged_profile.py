@@ -4,6 +4,11 @@ example-robot-data, a markdown table of µs per step per stage.
 
     cargo build --release -p tumble-cli
     python3 tools/legged_profile.py [--tumble target/release/tumble] [--runs 3] [--integrator rk4]
+                                    [--baseline OLD/tumble]
+
+With `--baseline`, an older build runs interleaved with this one (run for run, scene by scene, so
+that the machine's drift falls on both alike) and its table is printed first, then this one's and
+the ratio of the steps.
 
 Scenes: scenes/{solo12,go1,anymal_c}_{stand,trot}.toml (tools/quadruped_scenes.py), 5 s at
 dt = 1e-3, sampled every 5000 steps (the step loop alone). Each scene runs `--runs` times; per scene
@@ -43,26 +48,43 @@ def profile(tumble, scene, integrator, runs):
     return best
 
 
+def table(title, rows):
+    print(f"\n{title}\n")
+    print("| scene | contacts | " + " | ".join(name for _, name in COLUMNS) + " |")
+    print("|---|---|" + "---|" * len(COLUMNS))
+    for scene, p in rows.items():
+        cells = [f"{p[key]:.2f}" for key, _ in COLUMNS]
+        cells[-1] = f"**{cells[-1]}**"
+        print(f"| {scene} | {p['link_contacts']:.1f} | " + " | ".join(cells) + " |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     default = os.path.join(ROOT, "target", "release", "tumble")
     ap.add_argument("--tumble", default=default)
+    ap.add_argument("--baseline", default=None)
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--integrator", default=None)
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
-    rows = {}
-    print("| scene | contacts | " + " | ".join(name for _, name in COLUMNS) + " |")
-    print("|---|---|" + "---|" * len(COLUMNS))
+    rows, base = {}, {}
     for scene in SCENES:
-        p = profile(args.tumble, scene, args.integrator, args.runs)
-        rows[scene] = p
-        cells = [f"{p[key]:.2f}" for key, _ in COLUMNS]
-        cells[-1] = f"**{cells[-1]}**"
-        print(f"| {scene} | {p['link_contacts']:.1f} | " + " | ".join(cells) + " |")
+        for _ in range(args.runs):
+            for binary, out in ([(args.baseline, base)] if args.baseline else []) + [(args.tumble, rows)]:
+                p = profile(binary, scene, args.integrator, 1)
+                if scene not in out or p["step_us"] < out[scene]["step_us"]:
+                    out[scene] = p
+    if args.baseline:
+        table(f"baseline ({args.baseline})", base)
+    table(f"this build ({args.tumble})", rows)
+    if args.baseline:
+        print("\n| scene | step before (µs) | step after (µs) | after / before |\n|---|---|---|---|")
+        for scene in SCENES:
+            b, a = base[scene]["step_us"], rows[scene]["step_us"]
+            print(f"| {scene} | {b:.2f} | {a:.2f} | {a / b:.2f} |")
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(rows, f, indent=1)
+            json.dump({"this": rows, "baseline": base}, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -27,7 +27,8 @@ ROBOTS = {
     "go1": dict(
         title="Unitree Go1 (12.7 kg, 12 joints, boxes and cylinders, sphere feet; balance_inertia for its URDF)",
         urdf=f"{ERD}/go1_description/urdf/go1.urdf",
-        z=0.26, balance=True, kp=60.0, kd=2.0,
+        # kd = 2 leaves the landing's slow pitch rocking for some 3 s (5 mm of base motion after 1 s)
+        z=0.26, balance=True, kp=60.0, kd=4.0,
         legs=[("FL", 0.0, 0.8, -1.853), ("FR", 0.0, 0.8, -1.853), ("RL", 0.0, 0.8, -1.853), ("RR", 0.0, 0.8, -1.853)],
         names=("hip", "thigh", "calf"), sep="_", suffix="_joint"),
     "anymal_c": dict(
@@ -52,8 +53,9 @@ def scene(key, trot):
     r = ROBOTS[key]
     lines = []
     what = "trotting in place" if trot else "standing"
-    lines.append(f"# {r['title']}, {what} on the floor under PD (example-robot-data 6.0.0; written by")
-    lines.append("# tools/quadruped_scenes.py). Let go 5 mm above its SRDF standing height, it lands on its feet and")
+    lines.append(f"# {r['title']},")
+    lines.append(f"# {what} on the floor under PD (example-robot-data 6.0.0; written by tools/quadruped_scenes.py).")
+    lines.append("# Let go 5 mm above its SRDF standing height, it lands on its feet and")
     if trot:
         lines.append(f"# stands; its knee and hip-flexion targets then swing at {GAIT_HZ:g} Hz, diagonal legs half a period apart,")
         lines.append("# so that the feet lift and land.")

@@ -176,6 +176,18 @@ fn the_run_loop_allocates_nothing_per_step_with_robots_in_contact() {
     assert_eq!(short, long, "chain: {short} allocations for 2500 steps, {long} for 3500");
 }
 
+/// The quadrupeds of example-robot-data standing and trotting (`scenes/{solo12,go1}_{stand,trot}.toml`:
+/// Solo-12's mesh feet, Go1's sphere feet; the trot lifts and lands them every 250 steps, so the
+/// contact space of the rows grows and shrinks): the same allocations for 1,000 and 2,000 steps.
+#[test]
+fn the_run_loop_allocates_nothing_per_step_with_legged_robots() {
+    for name in ["solo12_stand", "go1_stand", "solo12_trot", "go1_trot"] {
+        let short = contact_allocations(name, 1000);
+        let long = contact_allocations(name, 2000);
+        assert_eq!(short, long, "{name}: {short} allocations for 1000 steps, {long} for 2000");
+    }
+}
+
 /// On two threads the calling thread allocates almost nothing per step: the pool is built at the
 /// first step, and the jobs are handed to it through rayon's injector queue, which allocates one
 /// block of 63 slots every 63 jobs (one job per step for the pyramid's narrow phase, 780 pairs; two

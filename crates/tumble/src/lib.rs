@@ -28,6 +28,7 @@ pub mod integrate;
 pub mod math;
 pub mod mesh;
 pub mod multibody;
+pub mod profile;
 pub mod scene;
 pub mod trajectory;
 pub mod world;

@@ -335,9 +335,9 @@ impl Colliders {
         gravity: DVec3,
         slop: f64,
         out: &mut Vec<Contact>,
-        profile: Option<&mut crate::world::Profile>,
+        profile: Option<&mut crate::profile::Profile>,
     ) {
-        let mut clock = crate::world::Clock::start(profile.is_some());
+        let mut clock = crate::profile::Clock::start(profile.is_some());
         out.clear();
         // a margin of at least a millimetre keeps touching pairs in the list whatever the slop
         // two bodies that are each asleep or fixed keep their contacts (`contact::sleep`)

@@ -48,13 +48,13 @@
 //!    solver velocity gains `h a₀`, the rows change it by `W Δλ`, and its displacement in velocity
 //!    coordinates grows by `h v`, which moves the point by `J_c d` (the row's separation).
 //!
-//! A robot the resting rows reached is integrated by its own method (RK4 or Euler) with the rows'
-//! generalized force over the step added to its joint forces, `τ_c = Jᵀ Λ / dt = M (v_solver − v₀ −
-//! a₀ dt) / dt` (`Λ` the rows' impulses of the step), so that it ends at the solver's velocity up to
-//! the change of `a` over the step, and its configuration is then replaced by where the substeps put
-//! it, `q₀ ⊕ d`, which holds the overlap correction (before its joint limits' end-of-step phase). A
-//! robot only struck (collisions, no resting impulse) gets the collisions' `Δv` at the start of its
-//! step and is integrated as usual.
+//! A robot the resting rows reached is integrated by its own method with the rows' generalized
+//! force over the step added to its joint forces, `τ_c = Jᵀ P / dt` (`P` the rows' impulses of the
+//! step), so that it ends at the solver's velocity up to the change of `a` over the step — RK4; the
+//! Euler methods, whose single evaluation at `(q₀, v₀)` is `a₀`, take the solver's end velocity
+//! itself — and its configuration is then replaced by where the substeps put it, `q₀ ⊕ d`, which
+//! holds the overlap correction. A robot only struck (collisions, no resting impulse) gets the
+//! collisions' `Δv` at the start of its step and is integrated as usual.
 
 use super::impact::tangent_basis;
 use super::solver::{Pass, Softness, SolverBody, Sweep};
@@ -65,7 +65,6 @@ use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::contact_point::{chain_dot, delassus, path_dofs, point_jacobian};
 use crate::multibody::{bias_forces, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
-use crate::world::Robot;
 use parry3d_f64::math::Pose;
 
 /// A limited coordinate within this distance (rad or m) of its limit, beyond what the step's
@@ -77,6 +76,15 @@ pub const SINGULAR_EPSILON: f64 = 1e-12;
 
 /// Sweeps over the robot contacts in the collision stage at most.
 pub const IMPACT_SWEEPS: usize = 16;
+
+/// The robots as the contact stage reads them, one [`RobotView`] each: the world implements it for
+/// its robots and hands them down, so that the contact stage never names the world's `Robot`.
+pub trait RobotViews {
+    /// How many robots.
+    fn count(&self) -> usize;
+    /// Robot `robot`'s view.
+    fn view(&self, robot: usize) -> RobotView<'_>;
+}
 
 /// What the contact stage reads of a robot: its model, the forward kinematics of its current state
 /// (`ws.x_world`, `ws.v`), its state, control and material ([`crate::world::Robot::contact_view`]).
@@ -252,13 +260,13 @@ impl LinkStage {
     }
 
     /// Finds the link contacts at the start of the step.
-    pub(super) fn detect(&mut self, colliders: &Colliders, bodies: &[RigidBody], robots: &[Robot], dt: f64, slop: f64) {
+    pub(super) fn detect(&mut self, colliders: &Colliders, bodies: &[RigidBody], robots: &dyn RobotViews, dt: f64, slop: f64) {
         if self.colliders.is_empty() {
             self.contacts.clear();
             return;
         }
         self.colliders.place(dt, slop, |r, b| {
-            let ws = robots[r].contact_view().ws;
+            let ws = robots.view(r).ws;
             let (x, v) = (ws.x_world[b], ws.v[b]);
             // b_X_0 = (E, r): world_from_body = (Eᵀ, r)
             BodyMotion {
@@ -292,7 +300,7 @@ impl LinkStage {
         bodies: &[RigidBody],
         solver_bodies: &[SolverBody],
         positions: &[DVec3],
-        robots: &[Robot],
+        robots: &dyn RobotViews,
         settings: &ContactSettings,
         dt: f64,
         soft: Softness,
@@ -302,8 +310,8 @@ impl LinkStage {
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
         self.rows.clear();
         self.dt = dt;
-        if self.robots.len() != robots.len() {
-            self.robots = robots.iter().map(|r| RobotSolve::new(&r.model)).collect();
+        if self.robots.len() != robots.count() {
+            self.robots = (0..robots.count()).map(|r| RobotSolve::new(robots.view(r).model)).collect();
         }
         for r in &mut self.robots {
             r.engaged = false;
@@ -316,7 +324,7 @@ impl LinkStage {
             let b = self.side(c.b, c.point_world, bodies, robots);
             let material = |s: Side| match s {
                 Side::Body(i) => bodies[i].material,
-                Side::Link(l) => robots[self.colliders.links()[l].robot].material,
+                Side::Link(l) => robots.view(self.colliders.links()[l].robot).material,
             };
             let (ma, mb) = (material(c.a), material(c.b));
             let (mu, e) = super::combine_materials(ma, mb, settings);
@@ -332,9 +340,9 @@ impl LinkStage {
         self.lambda_sums.resize(self.rows.len(), [0.0; 3]);
         self.limit_rows(robots, soft_fixed);
         // the rows of every engaged robot are known: its contact space, then each row's K
-        for (solve, robot) in self.robots.iter_mut().zip(robots) {
+        for (r, solve) in self.robots.iter_mut().enumerate() {
             if solve.engaged {
-                solve.contact_space(robot.contact_view().model);
+                solve.contact_space(robots.view(r).model);
             }
         }
         for i in 0..self.rows.len() {
@@ -374,13 +382,13 @@ impl LinkStage {
 
     /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
     /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row.
-    fn limit_rows(&mut self, robots: &[Robot], soft: Softness) {
+    fn limit_rows(&mut self, robots: &dyn RobotViews, soft: Softness) {
         self.limit_rows.clear();
-        for (r, robot) in robots.iter().enumerate() {
+        for r in 0..robots.count() {
             if !self.robots[r].engaged {
                 continue;
             }
-            let view = robot.contact_view();
+            let view = robots.view(r);
             let Some(limits) = view.limits else { continue };
             for (k, (qi, vi, lower, upper)) in limits.bounds().enumerate() {
                 let (q, v) = (view.q[qi], self.robots[r].v0[vi]);
@@ -409,7 +417,7 @@ impl LinkStage {
     /// The row side of a contact side: a robot link's point adds three rows to its robot's contact
     /// space, with their Jacobian (the robot's `M` and `a₀` are computed at its first row of the
     /// step).
-    fn side(&mut self, side: Side, point: DVec3, bodies: &[RigidBody], robots: &[Robot]) -> RowSide {
+    fn side(&mut self, side: Side, point: DVec3, bodies: &[RigidBody], robots: &dyn RobotViews) -> RowSide {
         match side {
             Side::Body(i) if bodies[i].fixed => RowSide::Fixed,
             Side::Body(i) => RowSide::Body(i),
@@ -417,7 +425,7 @@ impl LinkStage {
                 let link = &self.colliders.links()[l];
                 let Some(body) = link.body else { return RowSide::Fixed };
                 let robot = link.robot;
-                let view = robots[robot].contact_view();
+                let view = robots.view(robot);
                 let solve = &mut self.robots[robot];
                 if !solve.engaged && !solve.engage(&view) {
                     return RowSide::Fixed;
@@ -702,7 +710,7 @@ impl LinkStage {
 
     /// After the substeps: the impulses of the step, the rows kept for warm starting, and what each
     /// robot's own step takes (`Δv`, and `q₀ ⊕ d` when the resting rows held it).
-    pub(super) fn finish(&mut self, robots: &[Robot], dt: f64) {
+    pub(super) fn finish(&mut self, robots: &dyn RobotViews, dt: f64) {
         for ((p, sum), row) in self.impulses.iter_mut().zip(&self.lambda_sums).zip(&self.rows) {
             *p += sum[0] * row.n + sum[1] * row.t1 + sum[2] * row.t2;
         }
@@ -721,11 +729,11 @@ impl LinkStage {
         if !self.previous.is_sorted_by_key(|p| (p.a, p.b)) {
             self.previous.sort_unstable_by_key(|p| (p.a, p.b));
         }
-        for (r, robot) in self.robots.iter_mut().zip(robots) {
+        for (k, r) in self.robots.iter_mut().enumerate() {
             if !r.engaged {
                 continue;
             }
-            let view = robot.contact_view();
+            let view = robots.view(k);
             r.velocity_changes(view.model);
             if r.touched {
                 // where the substeps put it, q₀ ⊕ d, d = (Σ h) v₀ + (Σ h t) a₀ + M⁻¹ Jᵀ Q

@@ -202,7 +202,7 @@ pub struct ContactStage {
     /// Collisions resolved so far.
     pub impacts: u64,
     /// Wall time per stage when profiling is on (see [`crate::World::set_profiling`]).
-    profile: Option<crate::world::Profile>,
+    profile: Option<crate::profile::Profile>,
 }
 
 impl ContactStage {
@@ -232,7 +232,7 @@ impl ContactStage {
     }
 
     /// The stages' times since profiling was switched on, `None` when off.
-    pub fn profile(&self) -> Option<&crate::world::Profile> {
+    pub fn profile(&self) -> Option<&crate::profile::Profile> {
         self.profile.as_ref()
     }
 
@@ -274,7 +274,7 @@ impl ContactStage {
     pub fn resolve(
         &mut self,
         bodies: &mut [RigidBody],
-        robots: &[crate::world::Robot],
+        robots: &dyn links::RobotViews,
         settings: &ContactSettings,
         gravity: DVec3,
         dt: f64,
@@ -334,7 +334,7 @@ impl ContactStage {
         self.steady = fresh.is_empty().then_some(epoch);
         self.fresh = fresh;
         if !self.links.colliders.is_empty() {
-            let mut clock = crate::world::Clock::start(self.profile.is_some());
+            let mut clock = crate::profile::Clock::start(self.profile.is_some());
             let colliders = self.colliders.as_ref().expect("built above");
             self.links.detect(colliders, bodies, robots, dt, settings.slop);
             if let Some(p) = &mut self.profile {
@@ -367,12 +367,12 @@ impl ContactStage {
             self.links.clear();
             return;
         }
-        let mut clock = crate::world::Clock::start(self.profile.is_some());
+        let mut clock = crate::profile::Clock::start(self.profile.is_some());
         self.load_bodies(bodies, gravity);
         self.impacts(bodies, settings, dt, lead);
         let (soft, soft_fixed) = softness(settings, dt);
         if !self.links.is_empty() {
-            let mut rows_clock = crate::world::Clock::start(self.profile.is_some());
+            let mut rows_clock = crate::profile::Clock::start(self.profile.is_some());
             self.links.prepare(bodies, &self.bodies, &self.positions, robots, settings, dt, soft, soft_fixed);
             if let Some(p) = &mut self.profile {
                 p.link_rows += rows_clock.lap();
@@ -505,7 +505,7 @@ impl ContactStage {
     fn resting(
         &mut self,
         bodies: &mut [RigidBody],
-        robots: &[crate::world::Robot],
+        robots: &dyn links::RobotViews,
         settings: &ContactSettings,
         gravity: DVec3,
         dt: f64,

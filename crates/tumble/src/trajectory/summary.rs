@@ -134,7 +134,7 @@ pub struct Summary {
 }
 
 /// The wall time of a step per stage (µs per step, averaged over the run) and the contact counts
-/// per step ([`crate::world::Profile`]). The `link_*` and `robot_*` stages are parts of the stage
+/// per step ([`crate::profile::Profile`]). The `link_*` and `robot_*` stages are parts of the stage
 /// before them in this list (`link_detect` of `narrow_phase`, `link_rows` of `impacts`,
 /// `robot_dynamics` and `robot_bookkeeping` of `integration`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -155,8 +155,8 @@ pub struct ProfileSummary {
     pub link_contacts: f64,
 }
 
-impl From<crate::world::Profile> for ProfileSummary {
-    fn from(p: crate::world::Profile) -> Self {
+impl From<crate::profile::Profile> for ProfileSummary {
+    fn from(p: crate::profile::Profile) -> Self {
         let s = p.per_step();
         let us = 1e6;
         Self {

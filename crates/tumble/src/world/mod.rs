@@ -8,13 +8,12 @@ use crate::math::DVec3;
 
 mod batched;
 mod hash;
-mod profile;
 mod robots;
 mod state;
 mod threads;
 pub use hash::StateHasher;
-pub(crate) use profile::Clock;
-pub use profile::{PerStep, Profile};
+pub(crate) use crate::profile::Clock;
+pub use crate::profile::{PerStep, Profile};
 pub use robots::{robot_method, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 

@@ -334,6 +334,17 @@ impl Robot {
     }
 }
 
+/// The world's robots as the contact stage reads them (it is handed them by [`World::step`]).
+impl crate::contact::links::RobotViews for Vec<Robot> {
+    fn count(&self) -> usize {
+        self.len()
+    }
+
+    fn view(&self, robot: usize) -> crate::contact::links::RobotView<'_> {
+        self[robot].contact_view()
+    }
+}
+
 /// The tree method used for a world integrator (see the module's table).
 pub fn robot_method(integrator: Integrator) -> Method {
     match integrator {
