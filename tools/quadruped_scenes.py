@@ -21,24 +21,27 @@ ROBOTS = {
     "solo12": dict(
         title="Solo-12 (2.5 kg, 12 joints, STL collision meshes for every link)",
         urdf=f"{ERD}/solo_description/robots/solo12.urdf",
-        z=0.235, balance=False, kp=20.0, kd=0.5,
+        z=0.235, feet=0.0, balance=False, kp=20.0, kd=0.5,
         legs=[("FL", 0.1, 0.8, -1.6), ("FR", -0.1, 0.8, -1.6), ("HL", 0.1, -0.8, 1.6), ("HR", -0.1, -0.8, 1.6)],
         names=("HAA", "HFE", "KFE"), sep="_", suffix=""),
     "go1": dict(
         title="Unitree Go1 (12.7 kg, 12 joints, boxes and cylinders, sphere feet; balance_inertia for its URDF)",
         urdf=f"{ERD}/go1_description/urdf/go1.urdf",
         # kd = 2 leaves the landing's slow pitch rocking for some 3 s (5 mm of base motion after 1 s)
-        z=0.26, balance=True, kp=60.0, kd=4.0,
+        z=0.26, feet=-0.0088, balance=True, kp=60.0, kd=4.0,
         legs=[("FL", 0.0, 0.8, -1.853), ("FR", 0.0, 0.8, -1.853), ("RL", 0.0, 0.8, -1.853), ("RR", 0.0, 0.8, -1.853)],
         names=("hip", "thigh", "calf"), sep="_", suffix="_joint"),
     "anymal_c": dict(
         title="ANYmal C (52 kg, 12 joints, boxes and cylinders, sphere feet; balance_inertia for its URDF)",
         urdf=f"{ERD}/anymal_c_simple_description/urdf/anymal.urdf",
-        z=0.528, balance=True, kp=200.0, kd=5.0,
+        z=0.528, feet=-0.0076, balance=True, kp=200.0, kd=5.0,
         legs=[("LF", -0.1, 0.7, -1.0), ("RF", 0.1, 0.7, -1.0), ("LH", -0.1, -0.7, 1.0), ("RH", 0.1, -0.7, 1.0)],
         names=("HAA", "HFE", "KFE"), sep="_", suffix=""),
 }
-DROP = 0.005        # m above the SRDF's standing height
+DROP = 0.005        # m: the feet's lowest point above the floor when let go
+# `feet`: the height of the feet's lowest point (m) with the base at the SRDF's standing height `z`,
+# as tumble's forward kinematics of the URDF gives it (Go1's and ANYmal C's SRDF heights put their
+# sphere feet 8.8 and 7.6 mm into the floor; Solo-12's mesh feet touch it)
 FRICTION = 0.9
 GAIT_HZ = 2.0
 KNEE_AMPLITUDE = 0.35   # rad
@@ -55,7 +58,7 @@ def scene(key, trot):
     what = "trotting in place" if trot else "standing"
     lines.append(f"# {r['title']},")
     lines.append(f"# {what} on the floor under PD (example-robot-data 6.0.0; written by tools/quadruped_scenes.py).")
-    lines.append("# Let go 5 mm above its SRDF standing height, it lands on its feet and")
+    lines.append("# Let go in its SRDF standing pose with its feet 5 mm above the floor, it lands on them and")
     if trot:
         lines.append(f"# stands; its knee and hip-flexion targets then swing at {GAIT_HZ:g} Hz, diagonal legs half a period apart,")
         lines.append("# so that the feet lift and land.")
@@ -65,7 +68,7 @@ def scene(key, trot):
               "duration = 5.0                # s", 'integrator = "semi_implicit_euler"', "sample_every = 10", "",
               "[[body]]", 'name = "ground"', 'shape = { type = "plane" }    # z = 0', "fixed = true",
               f"friction = {FRICTION}", "", "[[robot]]", f'name = "{key}"', f'urdf = "{r["urdf"]}"', 'base = "floating"',
-              f"position = [0.0, 0.0, {r['z'] + DROP:.3f}]  # m: the base; SRDF standing height {r['z']} m"]
+              f"position = [0.0, 0.0, {r['z'] - r['feet'] + DROP:.4f}]  # m: the base, its feet 5 mm above the floor (SRDF standing height {r['z']} m)"]
     q = []
     for leg, haa, hfe, kfe in r["legs"]:
         for k, v in enumerate((haa, hfe, kfe)):
