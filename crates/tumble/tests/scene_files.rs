@@ -18,7 +18,15 @@ fn every_scene_file_loads_and_steps() {
             continue;
         }
         let loaded = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        assert!(loaded.warnings.is_empty(), "{}: {:?}", path.display(), loaded.warnings);
+        // the URDFs of example-robot-data are shipped as published (scenes/robots/example-robot-data):
+        // their non-URDF elements, sensor links of 1 g with a radius of gyration of 0.3 m, and the
+        // report of the inertias that `balance_inertia = true` replaced are the warnings they give
+        let vendor = |w: &String| {
+            w.contains("robots/example-robot-data/")
+                && (w.contains(": ignored <") || w.contains("radius of gyration") || w.contains("inertia balanced"))
+        };
+        let unexpected: Vec<&String> = loaded.warnings.iter().filter(|w| !vendor(w)).collect();
+        assert!(unexpected.is_empty(), "{}: {:?}", path.display(), unexpected);
         // a scene has bodies or robots (`[[robot]]`)
         let first = match (loaded.world.bodies.first(), loaded.world.robots.first()) {
             (Some(body), _) => body.name.clone(),
