@@ -34,6 +34,37 @@ impl World {
     fn robot(&self, robot: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
         self.model.get().robot_index(robot)
     }
+
+    /// The engine's world, for batched calls (`step_worlds`).
+    pub(crate) fn inner(&self) -> &tumble::World {
+        &self.world
+    }
+
+    /// The engine's world, for batched calls (`step_worlds`).
+    pub(crate) fn inner_mut(&mut self) -> &mut tumble::World {
+        &mut self.world
+    }
+
+    /// Robot `robot` (name, index or the only one): its index and `nq`, after checking it has PD
+    /// gains (with `kp`, `kd` the gains about to be set, when given).
+    pub(crate) fn pd_robot(
+        &self,
+        robot: Option<&Bound<'_, PyAny>>,
+        kp: Option<&[f64]>,
+        kd: Option<&[f64]>,
+    ) -> PyResult<(usize, usize)> {
+        let r = self.robot(robot)?;
+        let control = &self.world.robots[r].control;
+        let has_gains =
+            kp.unwrap_or(&control.kp).iter().any(|k| *k > 0.0) || kd.unwrap_or(&control.kd).iter().any(|k| *k > 0.0);
+        if !has_gains {
+            let name = &self.model.get().robots[r].name;
+            return Err(bad(format!(
+                "robot `{name}` has no PD gains: pass kp (and kd), or set them in the scene's [robot.pd]"
+            )));
+        }
+        Ok((r, self.model.get().robots[r].nq))
+    }
 }
 
 #[pymethods]
@@ -161,15 +192,8 @@ impl World {
         let kp = gains(kp, "kp")?;
         let kd = gains(kd, "kd")?;
         let v_target = v_target.map(|v| finite_vector(v, "v_target", nv, "(nv,) joint velocities")).transpose()?;
+        self.pd_robot(Some(robot), kp.as_deref(), kd.as_deref())?;
         let control = &mut self.world.robots[r].control;
-        let has_gains = kp.as_ref().unwrap_or(&control.kp).iter().any(|k| *k > 0.0)
-            || kd.as_ref().unwrap_or(&control.kd).iter().any(|k| *k > 0.0);
-        if !has_gains {
-            return Err(bad(format!(
-                "robot `{}` has no PD gains: pass kp (and kd), or set them in the scene's [robot.pd]",
-                model.robots[r].name
-            )));
-        }
         control.q_target.copy_from_slice(&q_target);
         if let Some(kp) = kp {
             control.kp.copy_from_slice(&kp);

@@ -25,6 +25,7 @@ __all__ = [
     "default_nthread",
     "rnea",
     "rollout",
+    "step_worlds",
 ]
 
 class TumbleError(ValueError):
@@ -159,6 +160,20 @@ def rollout(
     out: Optional[_F64] = None,
     return_status: Literal[True],
 ) -> tuple[_F64, npt.NDArray[np.int64]]: ...
+def step_worlds(
+    worlds: list[World],
+    n: int = 1,
+    *,
+    robot: Optional[_Robot] = None,
+    q_target: Optional[_ArrayLike] = None,
+    out: Optional[_F64] = None,
+    nthread: Optional[int] = None,
+) -> npt.NDArray[np.int64]:
+    """Advances every world by ``n`` steps on ``nthread`` threads, the GIL released; with
+    ``q_target`` (B, nq) first sets each world's PD position targets of ``robot``; with ``out``
+    (B, nstate) writes the states after the steps there. Returns the steps each world completed
+    (B,) int64, fewer than ``n`` for a world that diverged. Bit-identical to stepping each alone."""
+
 def default_nthread() -> int:
     """Threads used when ``nthread`` is not given: ``OMP_NUM_THREADS``, else the cores."""
 
