@@ -133,6 +133,23 @@ def test_go1_collapsing_without_stiffness_terminates():
     assert terminated and env.world.state()[2] < 0.15
 
 
+def test_go1_a_thigh_on_the_floor_terminates():
+    # height and tilt checks off: only the contact of a link other than a foot or calf ends it
+    kwargs = dict(kp=0.0, kd=0.5, min_height=0.0, max_tilt=np.pi)
+    env = tg.Go1Walk(**kwargs)
+    env.reset(seed=1)
+    for k in range(100):
+        _, _, terminated, *_ = env.step(np.zeros(12, dtype=np.float32))
+        if terminated:
+            break
+    assert terminated
+    touching = {c["b"] for c in env.world.contacts()}
+    assert any(name.endswith("_thigh") for name in touching), touching
+    env = tg.Go1Walk(terminate_on_body_contact=False, **kwargs)
+    env.reset(seed=1)
+    assert not any(env.step(np.zeros(12, dtype=np.float32))[2] for _ in range(100))
+
+
 def test_step_worlds_is_stepping_each_world_alone():
     model = tg.go1_model()
     worlds = [tumble.World(model) for _ in range(3)]

@@ -130,8 +130,9 @@ class World:
     def link_states(self, robot: Optional[_Robot] = None) -> _F64:
         """Poses and velocities of a robot's moving links, (nlink, 13), world frame."""
     def contacts(self) -> list[dict[str, Any]]:
-        """The active contacts of the last step: ``a``, ``b`` (body names), ``point``, ``normal`` (from
-        ``a`` to ``b``), ``depth`` (> 0: overlap) and ``force`` (N, on ``b``: the step's impulse over dt)."""
+        """The active contacts of the last step, the bodies' then the robot links': ``a``, ``b`` (body
+        names, or ``robot/link``), ``point``, ``normal`` (from ``a`` to ``b``), ``depth`` (> 0: overlap)
+        and ``force`` (N, on ``b``: the step's impulse over dt)."""
     def collisions(self) -> int:
         """Collisions resolved since the start."""
     def asleep(self) -> int:

@@ -224,6 +224,7 @@ class _Go1Task:
         kd: float,
         min_height: float,
         max_tilt: float,
+        terminate_on_body_contact: bool,
     ) -> None:
         self.model = go1_model()
         self.frame_skip = int(frame_skip)
@@ -234,7 +235,9 @@ class _Go1Task:
         self.kp, self.kd = float(kp), float(kd)
         self.min_height = float(min_height)
         self.max_tilt = float(max_tilt)
+        self.terminate_on_body_contact = bool(terminate_on_body_contact)
         m = self.model
+        self.link_prefix = m.robot_names[0] + "/"
         self.nq, self.nv = m.nq(0), m.nv(0)
         self.q0 = len(m.body_names) * 13  # the robot's q in the state; then its v
         self.v0 = self.q0 + self.nq
@@ -319,6 +322,18 @@ class _Go1Task:
         up_z = -_gravity_in_base(q[..., 3:7])[..., 2]  # cos of the tilt
         return (q[..., 2] < self.min_height) | (up_z < np.cos(self.max_tilt))
 
+    def body_contact(self, world: tumble.World) -> bool:
+        """Whether a link other than a foot or a calf touched anything in the world's last step (the
+        trunk, a hip, a thigh, a rotor: the knee's). The calves are left out: their collision boxes
+        reach down into the foot spheres, and brush the floor when a stepping foot is planted."""
+        if not self.terminate_on_body_contact:
+            return False
+        return any(
+            name.startswith(self.link_prefix) and not name.endswith(("_foot", "_calf"))
+            for c in world.contacts()
+            for name in (c["a"], c["b"])
+        )
+
     def action_space(self) -> spaces.Box:
         return spaces.Box(-1.0, 1.0, shape=(self.nact,), dtype=np.float32)
 
@@ -336,6 +351,7 @@ _GO1_DEFAULTS: dict[str, Any] = dict(
     kd=2.0,
     min_height=0.15,
     max_tilt=np.pi / 3,
+    terminate_on_body_contact=True,
 )
 
 
@@ -357,8 +373,10 @@ class Go1Walk(gymnasium.Env):
       0.05 (ω_x² + ω_y²) − 2e-4 |τ|² − 0.01 |a − a_prev|²``, τ the PD torque at the end of the step
       (before clamping); ``info["reward_terms"]`` has each term;
     - terminated when the base falls below ``min_height`` (0.15 m; it stands at 0.26 m) or tilts more
-      than ``max_tilt`` (60°) from upright, or the simulation diverges; truncated after
-      ``max_episode_steps`` actions (1000: 10 s).
+      than ``max_tilt`` (60°) from upright, when a link other than a foot or a calf (the trunk, a
+      hip, a thigh, a knee's rotor) touches anything in the last physics step of the action
+      (``terminate_on_body_contact``), or when the simulation
+      diverges; truncated after ``max_episode_steps`` actions (1000: 10 s).
 
     Starts standing, 5 mm above the floor, joints within ±0.05 rad of the standing pose.
     """
@@ -410,7 +428,7 @@ class Go1Walk(gymnasium.Env):
         self.world.state(out=self._state)
         reward, terms = self.task.reward(self._state, a, self._last_action, self._command, q_target)
         info["reward_terms"] = {k: float(t) for k, t in terms.items()}
-        terminated = diverged or bool(self.task.fallen(self._state))
+        terminated = diverged or bool(self.task.fallen(self._state)) or self.task.body_contact(self.world)
         truncated = self._elapsed >= self.max_episode_steps
         self._last_action = a
         obs = self.task.observe(self._state, self._last_action, self._command)
@@ -479,7 +497,7 @@ class Go1WalkVector(VectorEnv):
         diverged = status < self.task.frame_skip
         rewards, _ = self.task.reward(self._x, a, self._last_action, self._command, q_target)
         self._elapsed += 1
-        terminated = diverged | self.task.fallen(self._x)
+        terminated = diverged | self.task.fallen(self._x) | [self.task.body_contact(w) for w in self.worlds]
         truncated = self._elapsed >= self.max_episode_steps
         self._last_action = a
         # the environments whose episode ended on the previous step start again, ignoring their action
