@@ -5,6 +5,7 @@
 //! - [`model`]: `Model`, an immutable scene (frozen, `Sync`, picklable through its scene text);
 //! - [`world`]: `World`, the mutable state of one simulation (stepping releases the GIL);
 //! - [`rollout`]: batched rollouts on a thread pool sized per call;
+//! - [`step_worlds`]: many `World`s stepped in one call (with PD targets), the GIL released;
 //! - [`dynamics`]: `rnea`, `crba`, `aba`, `bias` on numpy arrays;
 //! - [`arrays`]: checked conversions between numpy arrays and slices (float64 only, no silent casts).
 
@@ -14,6 +15,7 @@ mod arrays;
 mod dynamics;
 mod model;
 mod rollout;
+mod step_worlds;
 mod world;
 
 pyo3::create_exception!(
@@ -45,6 +47,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::World>()?;
     m.add_function(wrap_pyfunction!(rollout::rollout, m)?)?;
     m.add_function(wrap_pyfunction!(rollout::default_nthread, m)?)?;
+    m.add_function(wrap_pyfunction!(step_worlds::step_worlds, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::rnea, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::bias, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::crba, m)?)?;

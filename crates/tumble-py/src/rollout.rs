@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex};
 /// The thread pools built so far, by size.
 static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
 
-fn pool(nthread: usize) -> PyResult<Arc<rayon::ThreadPool>> {
+pub(crate) fn pool(nthread: usize) -> PyResult<Arc<rayon::ThreadPool>> {
     let mut pools = POOLS.lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, p)) = pools.iter().find(|(n, _)| *n == nthread) {
         return Ok(p.clone());

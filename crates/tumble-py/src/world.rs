@@ -10,6 +10,7 @@ use crate::{bad, DivergedError};
 use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use tumble::collision::links::Side;
 
 /// One simulation of a model, at `t = 0` when created.
 #[pyclass(module = "tumble")]
@@ -33,6 +34,37 @@ pub fn diverged(e: tumble::world::StepError) -> PyErr {
 impl World {
     fn robot(&self, robot: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
         self.model.get().robot_index(robot)
+    }
+
+    /// The engine's world, for batched calls (`step_worlds`).
+    pub(crate) fn inner(&self) -> &tumble::World {
+        &self.world
+    }
+
+    /// The engine's world, for batched calls (`step_worlds`).
+    pub(crate) fn inner_mut(&mut self) -> &mut tumble::World {
+        &mut self.world
+    }
+
+    /// Robot `robot` (name, index or the only one): its index and `nq`, after checking it has PD
+    /// gains (with `kp`, `kd` the gains about to be set, when given).
+    pub(crate) fn pd_robot(
+        &self,
+        robot: Option<&Bound<'_, PyAny>>,
+        kp: Option<&[f64]>,
+        kd: Option<&[f64]>,
+    ) -> PyResult<(usize, usize)> {
+        let r = self.robot(robot)?;
+        let control = &self.world.robots[r].control;
+        let has_gains =
+            kp.unwrap_or(&control.kp).iter().any(|k| *k > 0.0) || kd.unwrap_or(&control.kd).iter().any(|k| *k > 0.0);
+        if !has_gains {
+            let name = &self.model.get().robots[r].name;
+            return Err(bad(format!(
+                "robot `{name}` has no PD gains: pass kp (and kd), or set them in the scene's [robot.pd]"
+            )));
+        }
+        Ok((r, self.model.get().robots[r].nq))
     }
 }
 
@@ -161,15 +193,8 @@ impl World {
         let kp = gains(kp, "kp")?;
         let kd = gains(kd, "kd")?;
         let v_target = v_target.map(|v| finite_vector(v, "v_target", nv, "(nv,) joint velocities")).transpose()?;
+        self.pd_robot(Some(robot), kp.as_deref(), kd.as_deref())?;
         let control = &mut self.world.robots[r].control;
-        let has_gains = kp.as_ref().unwrap_or(&control.kp).iter().any(|k| *k > 0.0)
-            || kd.as_ref().unwrap_or(&control.kd).iter().any(|k| *k > 0.0);
-        if !has_gains {
-            return Err(bad(format!(
-                "robot `{}` has no PD gains: pass kp (and kd), or set them in the scene's [robot.pd]",
-                model.robots[r].name
-            )));
-        }
         control.q_target.copy_from_slice(&q_target);
         if let Some(kp) = kp {
             control.kp.copy_from_slice(&kp);
@@ -214,17 +239,29 @@ impl World {
     /// overlapped), a list of dicts: `a`, `b` (body names), `point` (m), `normal` (unit, from `a`
     /// towards `b`), both world frame, `depth` (m, > 0 when the shapes overlap) and `force` (N, on
     /// `b`: the contact's whole impulse over the step, collision included, divided by `dt`) — the
-    /// lines of `tumble run --contacts`. Robot links do not collide yet.
+    /// lines of `tumble run --contacts`: the bodies' contacts, then the robot links' (a link named
+    /// `robot/link`; `b` is always a link).
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let inv_dt = 1.0 / self.world.config.dt;
+        let stage = self.world.contacts();
+        let bodies = stage.active().map(|(c, p)| {
+            let (a, b) = (&self.world.bodies[c.a].name, &self.world.bodies[c.b].name);
+            (a, b, c.point_world, c.normal_world, c.gap, p)
+        });
+        let link_colliders = stage.links.colliders.links();
+        let side = |s: Side| match s {
+            Side::Body(i) => &self.world.bodies[i].name,
+            Side::Link(l) => &link_colliders[l].name,
+        };
+        let links = stage.links.active().map(|(c, p)| (side(c.a), side(c.b), c.point_world, c.normal_world, c.gap, p));
         let mut out = Vec::new();
-        for (c, p) in self.world.contacts().active() {
+        for (a, b, point, normal, gap, p) in bodies.chain(links) {
             let d = PyDict::new(py);
-            d.set_item("a", &self.world.bodies[c.a].name)?;
-            d.set_item("b", &self.world.bodies[c.b].name)?;
-            d.set_item("point", PyArray1::from_slice(py, &c.point_world.to_array()))?;
-            d.set_item("normal", PyArray1::from_slice(py, &c.normal_world.to_array()))?;
-            d.set_item("depth", -c.gap)?;
+            d.set_item("a", a)?;
+            d.set_item("b", b)?;
+            d.set_item("point", PyArray1::from_slice(py, &point.to_array()))?;
+            d.set_item("normal", PyArray1::from_slice(py, &normal.to_array()))?;
+            d.set_item("depth", -gap)?;
             d.set_item("force", PyArray1::from_slice(py, &(p * inv_dt).to_array()))?;
             out.push(d);
         }

@@ -309,3 +309,14 @@ def test_step_releases_the_gil(pendulum):
     t.join()
     assert seen and "borrow" in seen[0].lower()
     assert w.steps == 400_000
+
+
+def test_contacts_of_robot_links_are_listed():
+    model = tumble.Model.from_file(SCENES / "go1_stand.toml")
+    w = tumble.World(model)
+    w.step(1000)  # landed 5 mm below its start, standing on its four feet
+    contacts = w.contacts()
+    assert {(c["a"], c["b"]) for c in contacts} == {("ground", f"go1/{leg}_foot") for leg in ("FR", "FL", "RR", "RL")}
+    weight = 13.100529 * 9.81  # the total mass of `tumble model go1.urdf --balance-inertia`
+    assert sum(c["force"][2] for c in contacts) == pytest.approx(weight, rel=0.05)
+    assert all(c["normal"][2] == pytest.approx(1.0) and abs(c["depth"]) < 1e-3 for c in contacts)

@@ -6,6 +6,8 @@
   ``set_state(x)`` in the layout of the trajectory CSV rows, then each robot's ``q`` and ``v``.
 - ``rollout(model, x0, nstep, control=None, nthread=None)``: a batch of simulations on a thread pool,
   ``(B, nstep, nstate)``, bit-identical to stepping one ``World`` per row.
+- ``step_worlds(worlds, n, q_target=None, out=None, nthread=None)``: many ``World``s advanced in one
+  call (PD targets set first), on threads with the GIL released; each as if stepped alone.
 - ``rnea``, ``bias``, ``crba``, ``aba``: multibody dynamics on numpy arrays.
 - ``tumble.gym``: Gymnasium tasks; ``tumble.distributed``: rollouts spread over a Ray cluster.
 
@@ -25,6 +27,7 @@ from ._tumble import (
     default_nthread,
     rnea,
     rollout,
+    step_worlds,
 )
 
 __all__ = [
@@ -39,4 +42,5 @@ __all__ = [
     "default_nthread",
     "rnea",
     "rollout",
+    "step_worlds",
 ]

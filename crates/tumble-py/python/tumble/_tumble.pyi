@@ -25,6 +25,7 @@ __all__ = [
     "default_nthread",
     "rnea",
     "rollout",
+    "step_worlds",
 ]
 
 class TumbleError(ValueError):
@@ -129,8 +130,9 @@ class World:
     def link_states(self, robot: Optional[_Robot] = None) -> _F64:
         """Poses and velocities of a robot's moving links, (nlink, 13), world frame."""
     def contacts(self) -> list[dict[str, Any]]:
-        """The active contacts of the last step: ``a``, ``b`` (body names), ``point``, ``normal`` (from
-        ``a`` to ``b``), ``depth`` (> 0: overlap) and ``force`` (N, on ``b``: the step's impulse over dt)."""
+        """The active contacts of the last step, the bodies' then the robot links': ``a``, ``b`` (body
+        names, or ``robot/link``), ``point``, ``normal`` (from ``a`` to ``b``), ``depth`` (> 0: overlap)
+        and ``force`` (N, on ``b``: the step's impulse over dt)."""
     def collisions(self) -> int:
         """Collisions resolved since the start."""
     def asleep(self) -> int:
@@ -159,6 +161,20 @@ def rollout(
     out: Optional[_F64] = None,
     return_status: Literal[True],
 ) -> tuple[_F64, npt.NDArray[np.int64]]: ...
+def step_worlds(
+    worlds: list[World],
+    n: int = 1,
+    *,
+    robot: Optional[_Robot] = None,
+    q_target: Optional[_ArrayLike] = None,
+    out: Optional[_F64] = None,
+    nthread: Optional[int] = None,
+) -> npt.NDArray[np.int64]:
+    """Advances every world by ``n`` steps on ``nthread`` threads, the GIL released; with
+    ``q_target`` (B, nq) first sets each world's PD position targets of ``robot``; with ``out``
+    (B, nstate) writes the states after the steps there. Returns the steps each world completed
+    (B,) int64, fewer than ``n`` for a world that diverged. Bit-identical to stepping each alone."""
+
 def default_nthread() -> int:
     """Threads used when ``nthread`` is not given: ``OMP_NUM_THREADS``, else the cores."""
 
