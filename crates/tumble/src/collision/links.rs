@@ -33,6 +33,9 @@ use parry3d_f64::query::{
 use parry3d_f64::shape::{PackedFeatureId, SharedShape};
 use std::collections::HashMap;
 
+/// Pairs whose buffers (parry's manifolds and workspace) are kept after they part.
+const CACHE_KEPT: usize = 4096;
+
 /// One side of a contact: a body of the world, or a link shape (index into [`LinkColliders`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Side {
@@ -323,7 +326,10 @@ impl LinkColliders {
                 );
             }
         }
-        if !self.cache.is_empty() {
+        // a pair's buffers are kept when it parts (a trotting foot lifts and lands again every few
+        // hundred steps: dropping them made its landing allocate), up to CACHE_KEPT pairs; past
+        // that, the pairs not met in this step go
+        if self.cache.len() > CACHE_KEPT {
             self.cache.retain(|_, p| p.step == step);
         }
         self.step += 1;
