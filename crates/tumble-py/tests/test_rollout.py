@@ -1,5 +1,6 @@
-"""rollout: the same numbers as one World per row, for any thread count and split; bad rows and
-diverging rows; the thread count from OMP_NUM_THREADS."""
+"""rollout: the same numbers as one World per row, for any thread count and split (free bodies in
+contact, a pendulum, quadrupeds standing and trotting on their feet under the scene's PD); bad rows
+and diverging rows; the thread count from OMP_NUM_THREADS."""
 
 import os
 import subprocess
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import tumble
-from conftest import step_rows
+from conftest import SCENES, step_rows
 
 
 def pendulum_batch(pendulum, n, seed=1):
@@ -33,6 +34,46 @@ def test_rollout_equals_one_world_per_row(demo, nthread):
     got = tumble.rollout(demo, x0, 300, nthread=nthread)
     assert got.shape == (5, 300, demo.nstate) and got.dtype == np.float64
     assert np.array_equal(got, expected)
+
+
+def landed_batch(model, n, seed=4):
+    """n states of a quadruped on its feet (the scene stepped 150 ms: landed), joint
+    velocities perturbed in all rows but the first."""
+    w = tumble.World(model)
+    w.step(150)
+    assert len(w.contacts()) >= 2  # on its feet (two of them while trotting)
+    x = np.tile(w.state(), (n, 1))
+    nq, nv = model.nq(), model.nv()
+    joints = slice(nq + 6, nq + nv)  # the state is q, then v; v starts with the base's 6
+    x[1:, joints] += np.random.default_rng(seed).normal(0, 0.5, (n - 1, nv - 6))
+    return x
+
+
+@pytest.mark.parametrize("scene", ["go1_stand", "solo12_stand", "anymal_c_stand", "go1_trot"])
+def test_quadruped_rollout_with_contacts_equals_one_world_per_row(scene):
+    """A floating-base robot on the floor under its scene's PD (the trot's targets move with time,
+    so feet lift and land): rollout rows are Worlds stepped one by one, on 1 or 2 threads, with and
+    without added joint torques."""
+    model = tumble.Model.from_file(SCENES / f"{scene}.toml")
+    x0 = landed_batch(model, 4)
+    nstep = 60
+    expected = step_rows(model, x0, nstep)
+    for nthread in (1, 2):
+        assert np.array_equal(tumble.rollout(model, x0, nstep, nthread=nthread), expected)
+    u = np.zeros((4, nstep, model.nu))
+    u[:, :, 6:] = np.random.default_rng(5).normal(0, 0.5, (4, nstep, model.nu - 6))  # N·m on the joints
+    expected_u = step_rows(model, x0, nstep, u)
+    assert not np.array_equal(expected_u, expected)
+    for nthread in (1, 2):
+        assert np.array_equal(tumble.rollout(model, x0, nstep, u, nthread), expected_u)
+    # the rows are in contact with the floor: row 0 (with torques) at every step, the others stand
+    w = tumble.World(model)
+    w.set_state(x0[0])
+    for t in range(nstep):
+        w.set_torque(0, u[0, t])
+        w.step()
+        assert len(w.contacts()) >= 1, t
+    assert np.array_equal(w.state(), expected_u[0, -1]) and np.all(expected_u[:, -1, 2] > 0.1)
 
 
 def test_rollout_with_controls_equals_set_torque(pendulum):
