@@ -22,6 +22,7 @@
 //! contact file writes it: `{"a": "ground", "b": "robot/foot"}`); of two links, the one listed first is
 //! side `a`.
 
+use super::face_search::FaceGraph;
 use super::{feature_key, Colliders, DUPLICATE_DISTANCE, PREDICTION_MARGIN};
 use crate::body::{RigidBody, Shape};
 use crate::math::{DQuat, DVec3};
@@ -32,6 +33,7 @@ use parry3d_f64::query::{
 };
 use parry3d_f64::shape::{PackedFeatureId, SharedShape};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// Pairs whose buffers (parry's manifolds and workspace) are kept after they part.
 const CACHE_KEPT: usize = 4096;
@@ -79,6 +81,9 @@ pub struct LinkCollider {
     /// box `c ± |R| h`, the sphere's `c ± ρ`), no pass over the vertices per step. `None`: a
     /// primitive, whose exact box is as cheap.
     local_bounds: Option<(Aabb, BoundingSphere)>,
+    /// For a convex hull, the walk that finds its face against a plane
+    /// ([`super::face_search`]); shared between clones of the world.
+    faces: Option<Arc<FaceGraph>>,
     /// Whether it collides at all (`no_collide = [["link"]]` takes a link out).
     pub enabled: bool,
 }
@@ -107,7 +112,8 @@ impl LinkCollider {
         let many_vertices =
             parry.as_convex_polyhedron().is_some() || parry.as_trimesh().is_some() || parry.as_compound().is_some();
         let local_bounds = many_vertices.then(|| (parry.compute_local_aabb(), sphere));
-        Self { robot, body, name, shape: parry, body_from_shape, reach, local_bounds, enabled: true }
+        let faces = parry.as_convex_polyhedron().and_then(FaceGraph::new).map(Arc::new);
+        Self { robot, body, name, shape: parry, body_from_shape, reach, local_bounds, faces, enabled: true }
     }
 }
 
@@ -116,6 +122,8 @@ impl LinkCollider {
 struct PairCache {
     manifolds: Vec<ContactManifold<(), ()>>,
     workspace: Option<ContactManifoldsWorkspace>,
+    /// The hull's face found against a plane last time (where the next walk starts).
+    face: u32,
     step: u64,
 }
 
@@ -143,6 +151,12 @@ pub struct LinkColliders {
     sweeps: Vec<f64>,
     aabbs: Vec<Aabb>,
     cache: HashMap<(Side, Side), PairCache>,
+    /// Per link: the end of the run of consecutive links of its robot that it lies in (a robot
+    /// without self-collision skips that run at once).
+    run_end: Vec<usize>,
+    /// Per body, this step: its shape's pose, swept box (`None`: a plane) and sweep, as the broad
+    /// phase made them (`None`: no shape), placed once for all the links.
+    placed_bodies: Vec<Option<(Pose, Option<Aabb>, f64)>>,
     step: u64,
 }
 
@@ -254,9 +268,9 @@ impl LinkColliders {
                     // `a` (the shape's y), half extents `h |a_i| + r √(1 − a_i²)`
                     Some(c) => {
                         let axis = pose.rotation * DVec3::Y;
-                        let half = DVec3::from_array(axis.to_array().map(|a| {
-                            c.half_height * a.abs() + c.radius * (1.0 - a * a).max(0.0).sqrt()
-                        }));
+                        let half = DVec3::from_array(
+                            axis.to_array().map(|a| c.half_height * a.abs() + c.radius * (1.0 - a * a).max(0.0).sqrt()),
+                        );
                         Aabb::from_half_extents(pose.translation, half)
                     }
                     None => link.shape.compute_aabb(&pose),
@@ -272,14 +286,28 @@ impl LinkColliders {
     pub fn find_contacts(&mut self, colliders: &Colliders, bodies: &[RigidBody], out: &mut Vec<LinkContact>) {
         out.clear();
         let step = self.step;
-        for l in 0..self.links.len() {
+        let count = self.links.len();
+        self.run_end.resize(count, count);
+        for l in (0..count).rev() {
+            let same = l + 1 < count && self.links[l + 1].robot == self.links[l].robot;
+            self.run_end[l] = if same { self.run_end[l + 1] } else { l + 1 };
+        }
+        self.placed_bodies.clear();
+        self.placed_bodies.extend(
+            (0..bodies.len())
+                .map(|i| colliders.placed(bodies, i).map(|(_, pose, aabb, sweep)| (pose, aabb.copied(), sweep))),
+        );
+        for l in 0..count {
             if !self.links[l].enabled {
                 continue;
             }
             let moving = self.links[l].body.is_some();
             // against the bodies
             for (i, body) in bodies.iter().enumerate() {
-                let Some((shape, pose_i, aabb, sweep_i)) = colliders.placed(bodies, i) else { continue };
+                let (Some((pose_i, aabb, sweep_i)), Some(shape)) = (self.placed_bodies[i], colliders.shape(i)) else {
+                    continue;
+                };
+                let aabb = aabb.as_ref();
                 if body.fixed && !moving {
                     continue;
                 }
@@ -299,6 +327,7 @@ impl LinkColliders {
                     cache,
                     (Side::Body(i), &pose_i, shape),
                     (Side::Link(l), &self.poses[l], &self.links[l].shape),
+                    self.links[l].faces.as_deref(),
                     prediction,
                     out,
                 );
@@ -307,7 +336,8 @@ impl LinkColliders {
             // links before any box test)
             let robot = self.links[l].robot;
             let own = !self.self_collision[robot];
-            for m in l + 1..self.links.len() {
+            let first = if own { self.run_end[l] } else { l + 1 };
+            for m in first..count {
                 if own && self.links[m].robot == robot {
                     continue;
                 }
@@ -321,6 +351,7 @@ impl LinkColliders {
                     cache,
                     (Side::Link(l), &self.poses[l], &self.links[l].shape),
                     (Side::Link(m), &self.poses[m], &self.links[m].shape),
+                    None,
                     prediction,
                     out,
                 );
@@ -401,11 +432,13 @@ fn plane_ball_contact(
     });
 }
 
-/// parry's manifolds of one pair, written as contacts from side `a` to side `b`.
+/// parry's manifolds of one pair, written as contacts from side `a` to side `b` (`faces_b`: the face
+/// walk of side `b`, a convex hull).
 fn manifold_contacts(
     cache: &mut PairCache,
     (side_a, pose_a, shape_a): (Side, &Pose, &SharedShape),
     (side_b, pose_b, shape_b): (Side, &Pose, &SharedShape),
+    faces_b: Option<&FaceGraph>,
     prediction: f64,
     out: &mut Vec<LinkContact>,
 ) {
@@ -414,7 +447,20 @@ fn manifold_contacts(
         return;
     }
     let pos12 = pose_a.inv_mul(pose_b);
-    let found = if shape_a.as_composite_shape().is_none() && shape_b.as_composite_shape().is_none() {
+    let hull_on_plane = match (shape_a.as_halfspace(), shape_b.as_convex_polyhedron(), faces_b) {
+        (Some(plane), Some(poly), Some(graph)) => Some((plane, poly, graph)),
+        _ => None,
+    };
+    let found = if let Some((plane, poly, graph)) = hull_on_plane {
+        // a hull on a plane: its support face by the walk from last step's face
+        if cache.manifolds.is_empty() {
+            cache.manifolds.push(ContactManifold::new());
+            cache.manifolds[0].points.reserve(16);
+        }
+        let manifold = &mut cache.manifolds[0];
+        super::pairs::halfspace_hull_manifold(&pos12, plane, poly, graph, &mut cache.face, prediction, manifold);
+        Ok(())
+    } else if shape_a.as_composite_shape().is_none() && shape_b.as_composite_shape().is_none() {
         // two convex shapes: one manifold, made in its own buffer (parry's half-space manifold
         // allocates a new one at every call)
         if cache.manifolds.is_empty() {

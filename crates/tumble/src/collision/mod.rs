@@ -40,6 +40,7 @@ mod broad;
 mod overlap;
 pub use overlap::{Overlap, DEEP_OVERLAP_DEPTH, DEEP_OVERLAP_FRACTION};
 mod composite;
+pub(crate) mod face_search;
 mod hull;
 pub mod links;
 mod pairs;
@@ -302,6 +303,11 @@ impl Colliders {
         let shape = self.shapes.get(i)?.as_ref()?;
         let aabb = if self.planes.contains(&i) { None } else { self.aabbs.get(i) };
         Some((shape, self.pose(bodies, i), aabb, self.sweeps.get(i).copied().unwrap_or(0.0)))
+    }
+
+    /// Body `i`'s parry shape (`None` for a body without one).
+    pub(crate) fn shape(&self, i: usize) -> Option<&SharedShape> {
+        self.shapes.get(i)?.as_ref()
     }
 
     /// The pose of body `i`'s parry shape in the world, `world_from_shape`.

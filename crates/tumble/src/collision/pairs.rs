@@ -34,7 +34,12 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::query::{
     ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, TrackedContact, Unsupported,
 };
-use parry3d_f64::shape::{HalfSpace, PackedFeatureId, PolygonalFeature, PolygonalFeatureMap, Shape, ShapeType};
+use parry3d_f64::shape::{
+    ConvexPolyhedron, HalfSpace, PackedFeatureId, PolygonalFeature, PolygonalFeatureMap, Shape, ShapeType,
+};
+
+use super::face_search::{face_feature, FaceGraph};
+use crate::math::DVec3;
 
 /// A pair's manifold is reused while the pair's relative motion since it was made, bounded as in
 /// the module documentation, is below this fraction of the smaller bounding radius of the two shapes
@@ -203,9 +208,44 @@ fn halfspace_manifold<S: ?Sized + PolygonalFeatureMap>(
     manifold: &mut ContactManifold<(), ()>,
     flipped: bool,
 ) {
+    let feature = |dir, out: &mut PolygonalFeature| pfm2.local_support_feature(dir, out);
+    halfspace_feature_manifold(pos12, halfspace1, feature, border_radius2, prediction, manifold, flipped);
+}
+
+/// [`halfspace_manifold`] for a convex polyhedron (shape 2) whose support face is found by a walk
+/// on its [`FaceGraph`] from `face`, the face found last time (updated), instead of parry's scan
+/// of every face: the same points when the walk finds the scan's face (see
+/// [`super::face_search`]).
+pub(super) fn halfspace_hull_manifold(
+    pos12: &Pose,
+    halfspace1: &HalfSpace,
+    poly2: &ConvexPolyhedron,
+    graph: &FaceGraph,
+    face: &mut u32,
+    prediction: f64,
+    manifold: &mut ContactManifold<(), ()>,
+) {
+    let feature = |dir, out: &mut PolygonalFeature| {
+        *face = graph.support_face(poly2, dir, *face);
+        face_feature(poly2, *face, out);
+    };
+    halfspace_feature_manifold(pos12, halfspace1, feature, 0.0, prediction, manifold, false);
+}
+
+/// The half-space manifold with shape 2's support feature toward a direction (its frame) given by
+/// `support_feature`.
+fn halfspace_feature_manifold(
+    pos12: &Pose,
+    halfspace1: &HalfSpace,
+    mut support_feature: impl FnMut(DVec3, &mut PolygonalFeature),
+    border_radius2: f64,
+    prediction: f64,
+    manifold: &mut ContactManifold<(), ()>,
+    flipped: bool,
+) {
     let normal1_2 = pos12.rotation.inverse() * halfspace1.normal;
     let mut feature2 = PolygonalFeature::default();
-    pfm2.local_support_feature(-normal1_2, &mut feature2);
+    support_feature(-normal1_2, &mut feature2);
     manifold.points.clear();
     for i in 0..feature2.num_vertices {
         let vtx2 = feature2.vertices[i];

@@ -15,14 +15,16 @@
 //! - sliding, `u_t ≠ 0`: `du/dp_z = K (−μ u_t/|u_t|, 1)` (Coulomb friction opposes sliding);
 //! - sticking, `u_t = 0`: the direction `(ξ, 1)` that keeps `u_t = 0` solves `K_tt ξ = −k_tn`;
 //!   if `|ξ| ≤ μ` sticking lasts and `du/dp_z = K (ξ, 1)` is constant; otherwise sliding resumes
-//!   along the unit `s` with `−μ K_tt s + k_tn = λ s`, `λ > 0`;
+//!   along the unit `s` with `−μ K_tt s + k_tn = λ s`, `λ > 0`, and stays on that ray, so that
+//!   `du/dp_z = K (−μ s, 1)` is constant too;
 //! - the normal work `W = ∫ u_z dp_z` is negative while compressing (`u_z < 0`); compression ends
 //!   at `u_z = 0` with `W_c`. Stronge's law ends the impact when `W = (1 − e²) W_c`; Newton's when
 //!   `u_z = −e u_z⁻`; Poisson's when `p_z = (1 + e) p_z(compression)`.
 //!
 //! Sliding is integrated with classical RK4 in `p_z`, steps of 1/256 of the frictionless
-//! compression impulse, each event (end of compression, sticking, end of restitution) located by
-//! bisection. Stronge's law cannot create energy; round-off and the other two laws could, so the
+//! compression impulse, each event (end of compression, the slip's stop, end of restitution)
+//! located by regula falsi; once the slip has stopped, the rest (sticking, or the diverging ray)
+//! is linear in `p_z` and finished in closed form. Stronge's law cannot create energy; round-off and the other two laws could, so the
 //! result is checked: if `ΔT = u⁻·P + ½ Pᵀ K P > 0` the impulse is scaled back to `ΔT = 0`.
 
 use crate::math::{DMat3, DVec3};
@@ -161,11 +163,13 @@ impl Integration {
             if self.mu == 0.0 || (ut.0 * ut.0 + ut.1 * ut.1).sqrt() <= stick_tol {
                 match self.stick_direction() {
                     Ok(xi) => return self.finish_linear(xi),
-                    Err(s) => {
-                        // sliding resumes along the diverging ray s
-                        self.y[0] = s.0 * 4.0 * stick_tol.max(1e-300);
-                        self.y[1] = s.1 * 4.0 * stick_tol.max(1e-300);
-                    }
+                    // sliding resumes along the diverging ray s, on which it stays: `du_t/dp_z =
+                    // g(s) = λ s`, so the friction `−μ s` and `du/dp_z` hold to the end, as while
+                    // sticking. (Integrating it instead, from a slip of zero, is unstable across
+                    // the ray: the friction direction turns at a rate `~ μ |K_tt| / |u_t|` that has
+                    // no bound while the slip is small, and RK4 let round-off grow to errors of
+                    // 1e-4 in the impulse.)
+                    Err(s) => return self.finish_linear((-self.mu * s.0, -self.mu * s.1)),
                 }
             }
             if self.slide_step() {
@@ -288,67 +292,112 @@ impl Integration {
     }
 
     /// One sliding step (an event found inside it shortens it). Returns whether the impact ended.
+    ///
+    /// Two events end a step early: the phase's end ([`event`](Self::event) reaches 0) and the stop
+    /// of the slip, which is taken where either RK4 or the Euler predictor reverses `u_t` (RK4's
+    /// stages straddling the stop average the discontinuous friction direction and can miss it).
+    /// The predictor's stop is a closed form, `(u_t0 + s k1_t)·u_t0 = 0`; the other two are roots
+    /// of smooth functions of the step, found by regula falsi (Illinois) in a bracket.
     fn slide_step(&mut self) -> bool {
         let ut0 = (self.y[0], self.y[1]);
-        // the slip stops inside a step when either RK4 or the Euler predictor reverses u_t: RK4's
-        // stages straddling the stop average the discontinuous friction direction and can miss it
         let k1 = self.slope(&self.y);
-        let y0 = self.y;
-        let crossed_at = |y: &[f64; 6], h: f64| {
-            let euler = (y0[0] + h * k1[0], y0[1] + h * k1[1]);
-            y[0] * ut0.0 + y[1] * ut0.1 <= 0.0 || euler.0 * ut0.0 + euler.1 * ut0.1 <= 0.0
-        };
+        // the Euler predictor's stop: s = |u_t0|² / (−k1_t·u_t0) when the slip decreases
+        let decrease = -(k1[0] * ut0.0 + k1[1] * ut0.1);
+        let euler_stop = if decrease > 0.0 { (ut0.0 * ut0.0 + ut0.1 * ut0.1) / decrease } else { f64::INFINITY };
+        // u_t·u_t0 ≤ 0: RK4 reversed the slip
+        let slip = move |y: &[f64; 6]| y[0] * ut0.0 + y[1] * ut0.1;
         let full = rk4(self, &self.y, self.h);
         let phase_ends = self.event(&full, self.p_z + self.h) >= 0.0;
-        let sticks = crossed_at(&full, self.h);
-        if !phase_ends && !sticks {
+        if !phase_ends && slip(&full) > 0.0 && euler_stop > self.h {
             self.y = full;
             self.p_z += self.h;
             // after a shortened step near a stop, grow back to the nominal step
             self.h = (2.0 * self.h).min(self.h0);
             return false;
         }
-        // bisect for the first event in (0, h]
-        let (mut lo, mut hi) = (0.0, self.h);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            let y = rk4(self, &self.y, mid);
-            if self.event(&y, self.p_z + mid) >= 0.0 || crossed_at(&y, mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
+        // the first event in (0, h]: below the predictor's stop, where RK4's slip reverses or the
+        // phase ends, whichever comes first
+        let hi = self.h.min(euler_stop);
+        let y_hi = if hi < self.h { rk4(self, &self.y, hi) } else { full };
+        let mut stop = (euler_stop <= self.h).then_some(hi);
+        if slip(&y_hi) <= 0.0 {
+            let (lo, _) = self.first_root(hi, |_, y, _| -slip(y));
+            stop = Some(lo);
         }
-        let y = rk4(self, &self.y, hi);
-        let ended = self.event(&y, self.p_z + hi) >= 0.0;
-        if crossed_at(&y, hi) && !ended {
-            // sliding stops between lo and hi (2⁻⁶⁰ h apart). RK4's last stage would sit on the
-            // stop, where the friction direction is round-off: step RK4 to 0.999 lo, where every
-            // stage still has a direction, then Euler over the last thousandth, and let the
-            // sticking analysis decide what follows
-            let y_near = rk4(self, &self.y, 0.999 * lo);
-            let slope = self.slope(&y_near);
-            self.y = std::array::from_fn(|i| y_near[i] + 0.001 * lo * slope[i]);
-            self.p_z += lo;
-            if (self.y[0] * self.y[0] + self.y[1] * self.y[1]).sqrt() > 1e-11 * self.u_scale && self.h > 1e-12 * self.h0
-            {
-                // the Euler predictor's stop was early (a curved slip path): go on in smaller steps
-                self.h *= 1.0 / 16.0;
+        let end = (self.event(&y_hi, self.p_z + hi) >= 0.0)
+            .then(|| self.first_root(hi, |s, y, h| s.event(y, s.p_z + h)))
+            .filter(|&(_, hi_end)| stop.is_none_or(|lo_stop| hi_end <= lo_stop));
+        if let Some((_, hi)) = end {
+            self.y = rk4(self, &self.y, hi);
+            self.p_z += hi;
+            if self.compressing {
+                self.y[2] = self.y[2].max(0.0);
+                self.end_compression();
                 return false;
             }
-            self.h = self.h0;
-            self.y[0] = 0.0;
-            self.y[1] = 0.0;
+            return true;
+        }
+        // sliding stops at lo. RK4's last stage would sit on the stop, where the friction
+        // direction is round-off: step RK4 to 0.999 lo, where every stage still has a direction,
+        // then Euler over the last thousandth (the work `W = ∫ u_z dp_z` with its second-order
+        // term, exact while `du_z/dp_z` holds), and let the sticking analysis decide what follows
+        let lo = stop.unwrap_or(hi);
+        let y_near = rk4(self, &self.y, 0.999 * lo);
+        let slope = self.slope(&y_near);
+        let last = 0.001 * lo;
+        self.y = std::array::from_fn(|i| y_near[i] + last * slope[i]);
+        self.y[5] += 0.5 * slope[2] * last * last;
+        self.p_z += lo;
+        if (self.y[0] * self.y[0] + self.y[1] * self.y[1]).sqrt() > 1e-11 * self.u_scale && self.h > 1e-12 * self.h0 {
+            // the Euler predictor's stop was early (a curved slip path): go on in smaller steps
+            self.h *= 1.0 / 16.0;
             return false;
         }
-        self.y = y;
-        self.p_z += hi;
-        if self.compressing {
-            self.y[2] = self.y[2].max(0.0);
-            self.end_compression();
-            return false;
+        self.h = self.h0;
+        self.y[0] = 0.0;
+        self.y[1] = 0.0;
+        false
+    }
+
+    /// The bracket `(lo, hi)` of a root of `f(state after a step s)`, with `f < 0` at `s = 0` and
+    /// `f ≥ 0` at `s = h`: `f < 0` at `lo`, `f ≥ 0` at `hi`, `hi − lo ≤ 10⁻¹⁴ h`. Regula falsi with
+    /// the Illinois rule (the retained end's value halved when the same end is kept twice), which
+    /// converges superlinearly on a smooth `f` and never leaves the bracket.
+    fn first_root(&self, h: f64, f: impl Fn(&Self, &[f64; 6], f64) -> f64) -> (f64, f64) {
+        let (mut a, mut fa) = (0.0, f(self, &self.y, 0.0));
+        let (mut b, mut fb) = (h, f(self, &rk4(self, &self.y, h), h));
+        if !(fa < 0.0) {
+            // the event is already at the start (Stronge's law with e = 0 ends restitution at once)
+            return (0.0, 0.0);
         }
-        true
+        if !(fb >= 0.0) {
+            return (0.0, h);
+        }
+        let mut kept = 0i8;
+        for _ in 0..100 {
+            if b - a <= 1e-14 * h {
+                break;
+            }
+            let mut c = (a * fb - b * fa) / (fb - fa);
+            if !(c > a && c < b) {
+                c = 0.5 * (a + b);
+            }
+            let fc = f(self, &rk4(self, &self.y, c), c);
+            if fc >= 0.0 {
+                (b, fb) = (c, fc);
+                if kept == 1 {
+                    fa *= 0.5;
+                }
+                kept = 1;
+            } else {
+                (a, fa) = (c, fc);
+                if kept == -1 {
+                    fb *= 0.5;
+                }
+                kept = -1;
+            }
+        }
+        (a, b)
     }
 
     /// `dy/dp_z` while sliding.

@@ -64,7 +64,7 @@ use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
 use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::contact_point::{chain_dot, delassus, path_dofs, point_jacobian};
-use crate::multibody::{bias_forces, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
+use crate::multibody::{bias_forces_placed, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
 use parry3d_f64::math::Pose;
 
 /// A limited coordinate within this distance (rad or m) of its limit, beyond what the step's
@@ -260,7 +260,14 @@ impl LinkStage {
     }
 
     /// Finds the link contacts at the start of the step.
-    pub(super) fn detect(&mut self, colliders: &Colliders, bodies: &[RigidBody], robots: &dyn RobotViews, dt: f64, slop: f64) {
+    pub(super) fn detect(
+        &mut self,
+        colliders: &Colliders,
+        bodies: &[RigidBody],
+        robots: &dyn RobotViews,
+        dt: f64,
+        slop: f64,
+    ) {
         if self.colliders.is_empty() {
             self.contacts.clear();
             return;
@@ -432,7 +439,8 @@ impl LinkStage {
                 }
                 let nv = solve.nv;
                 let off = solve.add_rows(3, path_dofs(view.model, body));
-                if point_jacobian(view.model, &solve.ws, body, point, &mut solve.jac[off * nv..(off + 3) * nv]).is_err() {
+                if point_jacobian(view.model, &solve.ws, body, point, &mut solve.jac[off * nv..(off + 3) * nv]).is_err()
+                {
                     solve.truncate_rows(off);
                     return RowSide::Fixed;
                 }
@@ -831,7 +839,7 @@ impl RobotSolve {
         // a₀ = M⁻¹ (τ − C(q, v)) with the factor at hand: the bias forces by RNEA and one solve
         // (cheaper than a second articulated-body pass)
         if view.control.joint_forces(model, q, v, &mut self.tau).is_err()
-            || bias_forces(model, &mut self.ws, q, v, &mut self.a0).is_err()
+            || bias_forces_placed(model, &mut self.ws, v, &mut self.a0).is_err()
         {
             return false;
         }
@@ -841,7 +849,7 @@ impl RobotSolve {
         if crate::multibody::ltdl_solve(model, &self.ws, &mut self.a0).is_err() {
             return false;
         }
-        // RNEA overwrote the placements with those of the same q: the CRBA's s_world still hold
+        // (RNEA ran at the CRBA's placements of the same q, which it leaves as they were)
         self.v0.copy_from_slice(v);
         self.v.copy_from_slice(v);
         self.d.fill(0.0);
@@ -905,7 +913,16 @@ impl RobotSolve {
             self.inv_d.push(1.0 / d);
             self.inv_sqrt_d.push(1.0 / d.sqrt());
         }
-        delassus(model, &self.ws, &self.inv_sqrt_d, &mut self.y, &mut self.y_scaled, &self.chain_of, &self.chains, &mut self.g);
+        delassus(
+            model,
+            &self.ws,
+            &self.inv_sqrt_d,
+            &mut self.y,
+            &mut self.y_scaled,
+            &self.chain_of,
+            &self.chains,
+            &mut self.g,
+        );
         self.u0.clear();
         self.ja0.clear();
         for i in 0..n {
@@ -932,6 +949,21 @@ impl RobotSolve {
         self.p[k] += x;
         for (u, g) in self.u.iter_mut().zip(&self.g[k * n..(k + 1) * n]) {
             *u += g * x;
+        }
+    }
+
+    /// An impulse `x` on the three rows from `k`: `P_{k+i} += x_i`, `u += Σ_i G_{·k+i} x_i`, in
+    /// one pass over `u` (the sums in the order of three [`impulse`](Self::impulse)s).
+    #[inline]
+    fn impulse3(&mut self, k: usize, x: [f64; 3]) {
+        let n = self.rows();
+        for (p, xi) in self.p[k..k + 3].iter_mut().zip(x) {
+            *p += xi;
+        }
+        let (g0, rest) = self.g[k * n..(k + 3) * n].split_at(n);
+        let (g1, g2) = rest.split_at(n);
+        for (((u, a), b), c) in self.u.iter_mut().zip(g0).zip(g1).zip(g2) {
+            *u = ((*u + a * x[0]) + b * x[1]) + c * x[2];
         }
     }
 
@@ -1048,13 +1080,8 @@ fn apply(robots: &mut [RobotSolve], bodies: &mut [SolverBody], row: &Row, p: DVe
                 sb.w += sign * (pn * ang[0] + p1 * ang[1] + p2 * ang[2]);
             }
             RowSide::Robot { robot, off } => {
-                // σ p on the point's three rows: u += G_{·k} σ p_k
-                let s = &mut robots[robot];
-                for (k, pk) in (sign * p).to_array().into_iter().enumerate() {
-                    if pk != 0.0 {
-                        s.impulse(off + k, pk);
-                    }
-                }
+                // σ p on the point's three rows: u += Σ_k G_{·k} σ p_k
+                robots[robot].impulse3(off, (sign * p).to_array());
             }
         }
     }

@@ -62,6 +62,7 @@ pub use model::{
     MultibodyModel,
 };
 pub use reduce::{kept_coordinates, reduced_model, LockError};
+pub(crate) use rnea::bias_forces_placed;
 pub use rnea::{bias_forces, rnea};
 pub use simulate::{ContactChange, Control, Method, PdWave, Simulator};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};

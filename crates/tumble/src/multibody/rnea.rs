@@ -38,6 +38,21 @@ pub fn bias_forces(
     rnea_impl(model, ws, q, v, None, bias)
 }
 
+/// [`bias_forces`] at the placements `ws.x_up` already in the workspace (those of `q`, as
+/// [`crate::multibody::crba`] leaves them): the same result without a second pass of the joint
+/// transforms.
+pub(crate) fn bias_forces_placed(
+    model: &MultibodyModel,
+    ws: &mut Workspace,
+    v: &[f64],
+    bias: &mut [f64],
+) -> Result<(), LengthError> {
+    check_len("v", v.len(), model.nv())?;
+    check_len("tau", bias.len(), model.nv())?;
+    recursion(model, ws, v, None, bias);
+    Ok(())
+}
+
 fn rnea_impl(
     model: &MultibodyModel,
     ws: &mut Workspace,
@@ -50,6 +65,12 @@ fn rnea_impl(
     check_len("v", v.len(), model.nv())?;
     check_len("tau", tau.len(), model.nv())?;
     placements_up(model, ws, q);
+    recursion(model, ws, v, a, tau);
+    Ok(())
+}
+
+/// Table 5.1's two passes at the placements `ws.x_up` (lengths checked).
+fn recursion(model: &MultibodyModel, ws: &mut Workspace, v: &[f64], a: Option<&[f64]>, tau: &mut [f64]) {
     // a_0 = −g: gravity as an upward acceleration of the world
     let a_world = Motion::new(DVec3::ZERO, -model.gravity);
     for (i, body) in model.bodies.iter().enumerate() {
@@ -92,5 +113,4 @@ fn rnea_impl(
             ws.f[p] += f_parent;
         }
     }
-    Ok(())
 }
