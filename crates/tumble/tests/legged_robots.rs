@@ -137,7 +137,9 @@ fn the_quadrupeds_trot_without_falling_and_the_same_on_two_threads() {
                     most = most.max(touching.len());
                 }
             }
-            println!("{name}, {threads} threads: base lowest {lowest:.4} m (start {z0:.4}), links touching {fewest}..{most}");
+            println!(
+                "{name}, {threads} threads: base lowest {lowest:.4} m (start {z0:.4}), links touching {fewest}..{most}"
+            );
             assert!(lowest > 0.8 * z0, "{name}: the base fell to {lowest} m");
             assert!(fewest < most, "{name}: the feet never lifted ({fewest}..{most} links touching)");
             hashes.push(world.state_hash());

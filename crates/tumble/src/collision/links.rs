@@ -254,9 +254,9 @@ impl LinkColliders {
                     // `a` (the shape's y), half extents `h |a_i| + r √(1 − a_i²)`
                     Some(c) => {
                         let axis = pose.rotation * DVec3::Y;
-                        let half = DVec3::from_array(axis.to_array().map(|a| {
-                            c.half_height * a.abs() + c.radius * (1.0 - a * a).max(0.0).sqrt()
-                        }));
+                        let half = DVec3::from_array(
+                            axis.to_array().map(|a| c.half_height * a.abs() + c.radius * (1.0 - a * a).max(0.0).sqrt()),
+                        );
                         Aabb::from_half_extents(pose.translation, half)
                     }
                     None => link.shape.compute_aabb(&pose),

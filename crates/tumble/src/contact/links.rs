@@ -260,7 +260,14 @@ impl LinkStage {
     }
 
     /// Finds the link contacts at the start of the step.
-    pub(super) fn detect(&mut self, colliders: &Colliders, bodies: &[RigidBody], robots: &dyn RobotViews, dt: f64, slop: f64) {
+    pub(super) fn detect(
+        &mut self,
+        colliders: &Colliders,
+        bodies: &[RigidBody],
+        robots: &dyn RobotViews,
+        dt: f64,
+        slop: f64,
+    ) {
         if self.colliders.is_empty() {
             self.contacts.clear();
             return;
@@ -432,7 +439,8 @@ impl LinkStage {
                 }
                 let nv = solve.nv;
                 let off = solve.add_rows(3, path_dofs(view.model, body));
-                if point_jacobian(view.model, &solve.ws, body, point, &mut solve.jac[off * nv..(off + 3) * nv]).is_err() {
+                if point_jacobian(view.model, &solve.ws, body, point, &mut solve.jac[off * nv..(off + 3) * nv]).is_err()
+                {
                     solve.truncate_rows(off);
                     return RowSide::Fixed;
                 }
@@ -905,7 +913,16 @@ impl RobotSolve {
             self.inv_d.push(1.0 / d);
             self.inv_sqrt_d.push(1.0 / d.sqrt());
         }
-        delassus(model, &self.ws, &self.inv_sqrt_d, &mut self.y, &mut self.y_scaled, &self.chain_of, &self.chains, &mut self.g);
+        delassus(
+            model,
+            &self.ws,
+            &self.inv_sqrt_d,
+            &mut self.y,
+            &mut self.y_scaled,
+            &self.chain_of,
+            &self.chains,
+            &mut self.g,
+        );
         self.u0.clear();
         self.ja0.clear();
         for i in 0..n {

@@ -118,7 +118,13 @@ pub(crate) fn ltdl_solve_upper_chain(model: &MultibodyModel, ws: &Workspace, cha
 /// The last two stages of [`ltdl_solve`], `x ← L⁻¹ D⁻¹ x` (after [`ltdl_solve_upper_chain`] or the
 /// first stage of the solve, this completes `x = M⁻¹ b`), on two right-hand sides at once, with
 /// `inv_d` the inverse pivots `1 / D_k` (nv): one walk of the tree for both. Lengths checked by the caller.
-pub(crate) fn ltdl_solve_lower_pair(model: &MultibodyModel, ws: &Workspace, inv_d: &[f64], x: &mut [f64], y: &mut [f64]) {
+pub(crate) fn ltdl_solve_lower_pair(
+    model: &MultibodyModel,
+    ws: &Workspace,
+    inv_d: &[f64],
+    x: &mut [f64],
+    y: &mut [f64],
+) {
     let h = &ws.ltdl;
     let nv = x.len();
     for k in 0..nv {

@@ -20,6 +20,7 @@
 //! | [`impulse_aba`] | `Δv = M⁻¹ J_cᵀ p` of an impulse at a link's point, its `K`, through ABA's `I^A` | `O(n)`, `K` `O(d)` |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
+//! | [`passive`]   | joint damping and springs, `τ = −d v − k (q − q_ref)`        | `O(n)`          |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
 //! | [`limits`]    | joint position limits: speculative impulse + constraint force | `O(n d)` when active |
 //!
@@ -41,6 +42,7 @@ pub mod limits;
 pub mod link_shapes;
 pub mod ltdl;
 pub mod model;
+pub mod passive;
 pub mod reduce;
 pub mod rnea;
 pub mod simulate;
@@ -54,13 +56,14 @@ pub use crba::{crba, CrbaError};
 pub use energy::{center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
-pub use joint::{JointKind, JointLimits};
+pub use joint::{JointDynamics, JointKind, JointLimits};
 pub use limits::JointLimitSolver;
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{
     Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,
     MultibodyModel,
 };
+pub use passive::{add_passive_forces, passive_forces, spring_energy};
 pub use reduce::{kept_coordinates, reduced_model, LockError};
 pub use rnea::{bias_forces, rnea};
 pub use simulate::{ContactChange, Control, Method, PdWave, Simulator};

@@ -7,7 +7,7 @@
 //!
 //! Coordinates: joint `i` owns `q[q_index .. q_index + nq]` and `v[v_index .. v_index + nv]`.
 
-use super::joint::{JointKind, JointLimits};
+use super::joint::{JointDynamics, JointKind, JointLimits};
 use super::spatial::{Motion, RigidInertia, Xform};
 use super::workspace::{check_len, LengthError};
 use crate::math::DVec3;
@@ -21,6 +21,8 @@ pub enum ModelError {
     NonFinitePlacement { joint: String },
     #[error("body '{body}': its parent index {parent} is not an earlier body")]
     BadParent { body: String, parent: usize },
+    #[error("joint '{joint}': {what}")]
+    BadJointDynamics { joint: String, what: String },
     #[error("body '{body}': its inertia must be finite with mass ≥ 0")]
     BadInertia { body: String },
     #[error(
@@ -47,6 +49,8 @@ pub struct Joint {
     pub v_index: usize,
     /// Limits and damping (informational).
     pub limits: JointLimits,
+    /// Armature, damping and spring, used by the dynamics (zero from URDF).
+    pub dynamics: JointDynamics,
     /// The parent link's name as written in the source (the world for the root).
     pub parent_link: String,
 }
@@ -377,6 +381,7 @@ impl ModelBuilder {
             q_index: self.nq,
             v_index: self.nv,
             limits: JointLimits::default(),
+            dynamics: JointDynamics::default(),
             parent_link,
         };
         self.nq += kind.nq();
@@ -398,6 +403,28 @@ impl ModelBuilder {
         if let Some(b) = self.bodies.get_mut(index) {
             b.joint.limits = limits;
         }
+    }
+
+    /// Sets the armature, damping and spring of the joint of body `index`: each coefficient finite
+    /// and ≥ 0, a spring only on a one-coordinate joint.
+    pub fn set_dynamics(&mut self, index: usize, dynamics: JointDynamics) -> Result<(), ModelError> {
+        let Some(b) = self.bodies.get_mut(index) else { return Ok(()) };
+        let bad = |what: String| ModelError::BadJointDynamics { joint: b.joint.name.clone(), what };
+        for (name, x) in
+            [("armature", dynamics.armature), ("damping", dynamics.damping), ("stiffness", dynamics.stiffness)]
+        {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(bad(format!("{name} must be finite and ≥ 0 (got {x})")));
+            }
+        }
+        if !dynamics.spring_ref.is_finite() {
+            return Err(bad(format!("the spring's reference must be finite (got {})", dynamics.spring_ref)));
+        }
+        if dynamics.stiffness != 0.0 && b.joint.kind.nv() != 1 {
+            return Err(bad(format!("a spring needs a one-coordinate joint (this one is {})", b.joint.kind.name())));
+        }
+        b.joint.dynamics = dynamics;
+        Ok(())
     }
 
     /// Adds inertia (in the body's frame) to body `index`, or to the world for `None`.

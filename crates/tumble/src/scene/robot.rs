@@ -597,17 +597,27 @@ impl RobotReader<'_, '_> {
                 let Some(amplitude) = wave.0 else {
                     return Err(self
                         .src
-                        .error(span, self.at(&format!("pd.{joint}")), "`frequency` and `phase` need an `amplitude` (rad or m)")
+                        .error(
+                            span,
+                            self.at(&format!("pd.{joint}")),
+                            "`frequency` and `phase` need an `amplitude` (rad or m)",
+                        )
                         .hint("e.g. `{ target = 0.5, kp = 100.0, kd = 10.0, amplitude = 0.2, frequency = 2.0 }`"));
                 };
                 if !amplitude.value.is_finite() {
                     return Err(self.err(&key("amplitude"), amplitude, "must be finite").got(num(amplitude.value)));
                 }
                 let Some(frequency) = wave.1 else {
-                    return Err(self.src.error(span, self.at(&format!("pd.{joint}")), "`amplitude` needs a `frequency` (Hz)"));
+                    return Err(self.src.error(
+                        span,
+                        self.at(&format!("pd.{joint}")),
+                        "`amplitude` needs a `frequency` (Hz)",
+                    ));
                 };
                 if !(frequency.value.is_finite() && frequency.value > 0.0) {
-                    return Err(self.err(&key("frequency"), frequency, "must be finite and > 0 (Hz)").got(num(frequency.value)));
+                    return Err(self
+                        .err(&key("frequency"), frequency, "must be finite and > 0 (Hz)")
+                        .got(num(frequency.value)));
                 }
                 let phase = match wave.2 {
                     Some(p) if !p.value.is_finite() => {
