@@ -75,11 +75,8 @@ pub fn profile_table(p: &tumble::trajectory::ProfileSummary) -> String {
         let _ = writeln!(out, "{label:<40} {us:>9.2} µs {:>5.1} %", share(us));
     }
     let _ = writeln!(out, "  {:<38} {:>9.2} µs", "step", p.step_us);
-    let _ = writeln!(
-        out,
-        "  pairs {:.1}, contacts {:.1}, robot link contacts {:.1}",
-        p.pairs, p.contacts, p.link_contacts
-    );
+    let _ =
+        writeln!(out, "  pairs {:.1}, contacts {:.1}, robot link contacts {:.1}", p.pairs, p.contacts, p.link_contacts);
     out
 }
 

@@ -1,5 +1,5 @@
 //! Articulated bodies: Featherstone's spatial algebra and recursive algorithms over a kinematic
-//! tree, and robots read from URDF.
+//! tree, and robots read from URDF and MJCF.
 //!
 //! Reference: R. Featherstone, *Rigid Body Dynamics Algorithms*, Springer 2008 (chapter and table
 //! numbers in each module). Spatial vectors are `[angular; linear]`.
@@ -12,6 +12,7 @@
 //! | [`reduce`]    | locked joints: the reduced model (`buildReducedModel`)     | `O(n)` once     |
 //! | [`workspace`] | the mutable [`Workspace`], allocated once                  | —               |
 //! | [`urdf`]      | URDF → model, with file:line:column errors                 | `O(n)`          |
+//! | [`mjcf`]      | MJCF (MuJoCo) → model, the same builder, refusing what it cannot read | `O(n)` |
 //! | [`fk`]        | link poses and velocities                                  | `O(n)`          |
 //! | [`rnea`](mod@rnea) | inverse dynamics `τ = M q̈ + C q̇ + g`, bias forces         | `O(n)`          |
 //! | [`crba`](mod@crba) | the mass matrix `M(q)`                                     | `O(n d)`        |
@@ -41,6 +42,7 @@ pub mod joint;
 pub mod limits;
 pub mod link_shapes;
 pub mod ltdl;
+pub mod mjcf;
 pub mod model;
 pub mod passive;
 pub mod reduce;
@@ -60,8 +62,8 @@ pub use joint::{JointDynamics, JointKind, JointLimits};
 pub use limits::JointLimitSolver;
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{
-    Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,
-    MultibodyModel,
+    placed_inertia, Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder,
+    ModelError, MultibodyModel,
 };
 pub use passive::{add_passive_forces, passive_forces, spring_energy};
 pub use reduce::{kept_coordinates, reduced_model, LockError};

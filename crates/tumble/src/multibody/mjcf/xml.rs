@@ -134,7 +134,11 @@ fn pos_of(doc: &Document, offset: usize, file: &Rc<str>) -> Pos {
 fn convert(doc: &Document, node: Node, file: &Rc<str>) -> El {
     let attrs = node
         .attributes()
-        .map(|a| Attr { name: a.name().to_string(), value: a.value().to_string(), pos: pos_of(doc, a.range().start, file) })
+        .map(|a| Attr {
+            name: a.name().to_string(),
+            value: a.value().to_string(),
+            pos: pos_of(doc, a.range().start, file),
+        })
         .collect();
     let children = node.children().filter(|n| n.is_element()).map(|n| convert(doc, n, file)).collect();
     El { tag: node.tag_name().name().to_string(), attrs, children, pos: pos_of(doc, node.range().start, file) }
