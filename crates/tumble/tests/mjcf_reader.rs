@@ -177,3 +177,30 @@ fn geometry_roles_filters_and_friction() {
     assert_eq!(body, Some(0));
     assert!((x.r - tumble::math::DVec3::new(0.0, 0.0, 0.5)).length() < 1e-15);
 }
+
+/// The Gymnasium ant's geoms become collision shapes as a URDF robot's do: the floor a plane of
+/// the world, the torso a sphere, the legs capsules placed along their `fromto`.
+#[test]
+fn ant_collision_shapes() {
+    use tumble::body::Shape;
+    use tumble::multibody::link_shapes::collision_shapes;
+    let path = dir().join("gymnasium/ant.xml");
+    let m = load_mjcf(&path, MjcfOptions::default()).unwrap();
+    // the ant's geoms have conaffinity 0 but contype 1: they collide (with the floor's conaffinity 1)
+    let shapes = collision_shapes(&m.model, &path.display().to_string()).unwrap();
+    assert_eq!(shapes.len(), 14);
+    assert!(matches!(shapes[0].shape, Shape::Plane) && shapes[0].body.is_none());
+    assert!(matches!(shapes[1].shape, Shape::Sphere { radius } if radius == 0.25));
+    let capsules = shapes.iter().filter(|s| matches!(s.shape, Shape::Capsule { radius, .. } if radius == 0.08)).count();
+    assert_eq!(capsules, 12);
+    // aux_1_geom: fromto 0 0 0 → 0.2 0.2 0 on the torso: centre (0.1, 0.1, 0), axis along (1, 1, 0)
+    let aux = &shapes[2];
+    assert_eq!(aux.body, Some(0));
+    assert!((aux.position_body - tumble::math::DVec3::new(0.1, 0.1, 0.0)).length() < 1e-15);
+    let axis = aux.orientation_body * tumble::math::DVec3::Z;
+    assert!((axis - tumble::math::DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-15);
+    match aux.shape {
+        Shape::Capsule { half_height, .. } => assert!((half_height - 0.5 * 0.2_f64.hypot(0.2)).abs() < 1e-15),
+        _ => unreachable!(),
+    }
+}
