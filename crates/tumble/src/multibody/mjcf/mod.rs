@@ -23,11 +23,13 @@
 //! heightfields, plugins, composites, flex, …); `solref`, `solimp`, `margin` and the other soft-
 //! contact parameters are reported once as not used. Visual elements are skipped.
 
+mod assemble;
 mod attrs;
 mod build;
 mod defaults;
 pub mod layout;
 mod pose;
+mod tree;
 mod xml;
 
 use super::model::{ModelError, MultibodyModel};
