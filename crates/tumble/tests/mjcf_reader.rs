@@ -204,3 +204,24 @@ fn ant_collision_shapes() {
         _ => unreachable!(),
     }
 }
+
+/// A chain nested deeper than the reader recurses is refused, not a stack overflow.
+#[test]
+fn deep_nesting_is_refused() {
+    let n = 20_000;
+    let text = format!(
+        "<mujoco><worldbody>{}{}</worldbody></mujoco>",
+        "<body><joint/><geom size=\"0.1\"/>".repeat(n),
+        "</body>".repeat(n)
+    );
+    let e = refused(&text);
+    assert!(e.to_string().contains("nested deeper than 1000"), "{e}");
+    // a chain of 500 bodies is read
+    let n = 500;
+    let text = format!(
+        "<mujoco><worldbody>{}{}</worldbody></mujoco>",
+        "<body pos=\"0 0 0.1\"><joint/><geom size=\"0.1\"/>".repeat(n),
+        "</body>".repeat(n)
+    );
+    assert_eq!(parse(&text).unwrap().model.nv(), n);
+}

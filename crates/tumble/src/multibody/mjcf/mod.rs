@@ -37,7 +37,7 @@ use crate::math::DVec3;
 use std::path::{Path, PathBuf};
 
 pub use layout::MujocoLayout;
-pub use xml::{MAX_INCLUDE_DEPTH, MAX_MJCF_BYTES};
+pub use xml::{MAX_ELEMENT_DEPTH, MAX_INCLUDE_DEPTH, MAX_MJCF_BYTES};
 
 /// An error in an MJCF file, with its position.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -15,6 +15,9 @@ use std::rc::Rc;
 pub const MAX_MJCF_BYTES: u64 = 64 << 20;
 /// Includes nested deeper than this are refused.
 pub const MAX_INCLUDE_DEPTH: usize = 16;
+/// Elements nested deeper than this are refused (the reader recurses over the tree; MuJoCo models
+/// are a few tens deep).
+pub const MAX_ELEMENT_DEPTH: usize = 1000;
 
 /// Where a piece of text came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -119,6 +122,14 @@ fn convert_document(text: &str, file: Rc<str>, dir: &Path, stack: &mut Vec<PathB
         }
     })?;
     let root = doc.root_element();
+    if let Some(deep) = root.descendants().find(|n| n.is_element() && n.ancestors().count() > MAX_ELEMENT_DEPTH + 1) {
+        let pos = pos_of(&doc, deep.range().start, &file);
+        return Err(MjcfError::at(
+            &pos,
+            deep.tag_name().name().to_string(),
+            MjcfErrorKind::Invalid(format!("elements nested deeper than {MAX_ELEMENT_DEPTH}")),
+        ));
+    }
     let el = convert(&doc, root, &file);
     if el.tag != "mujoco" {
         return Err(el.error(MjcfErrorKind::Invalid(format!("the root element must be <mujoco>, found <{}>", el.tag))));
