@@ -6,7 +6,7 @@ Usage (from the repository root):
     python3 -m venv /tmp/venv-mj && /tmp/venv-mj/bin/pip install mujoco gymnasium numpy
     /tmp/venv-mj/bin/python tools/mjcf_fixtures.py
 
-For each model it copies the XML into crates/tumble/tests/fixtures/mjcf/ (the Gymnasium files as
+For each model it copies the XML (the Allegro hand is read in place, with its meshes) into crates/tumble/tests/fixtures/mjcf/ (the Gymnasium files as
 they are, MIT; the Menagerie robots from ../shared/menagerie/ with their LICENSE, without meshes:
 their bodies carry <inertial>, so the dynamics needs no mesh) and writes NAME.json with a few
 random states and, in MuJoCo's own conventions (tumble's tests map them with MujocoLayout):
@@ -40,6 +40,8 @@ GYMNASIUM = ["ant", "half_cheetah", "hopper", "walker2d", "swimmer", "humanoid",
              "pusher", "inverted_pendulum", "inverted_double_pendulum"]
 # (fixture name, folder, file)
 MENAGERIE_MODELS = [("anymal_c", "anybotics_anymal_c", "anymal_c.xml"), ("iiwa14", "kuka_iiwa_14", "iiwa14.xml")]
+# read in place from ../shared/menagerie/ (their meshes are needed: inertia from mesh geoms)
+MENAGERIE_IN_PLACE = [("allegro_right", "wonik_allegro", "right_hand.xml")]
 # refused (closed loops): their XML copied for the refusal tests
 MENAGERIE_REFUSED = [("robotiq_2f85", ["2f85.xml", "scene.xml"]), ("agility_cassie", ["cassie.xml"])]
 # small models written for the conventions (orientation forms, eulerseq, defaults, inertia from geoms)
@@ -147,6 +149,9 @@ def main():
         shutil.copyfile(os.path.join(MENAGERIE, folder, "LICENSE"), os.path.join(OUT, "menagerie", name + ".LICENSE"))
         # MuJoCo compiles the original (its meshes are beside it); the copy without meshes is what tumble reads
         write(name, fixture(name, src, rng))
+        print(name)
+    for name, folder, file in MENAGERIE_IN_PLACE:
+        write(name, fixture(name, os.path.join(MENAGERIE, folder, file), rng))
         print(name)
     for folder, files in MENAGERIE_REFUSED:
         os.makedirs(os.path.join(OUT, "menagerie", folder), exist_ok=True)

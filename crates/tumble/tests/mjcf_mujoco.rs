@@ -275,3 +275,18 @@ fn synthetic_eulerseq_mixed() {
 fn synthetic_defaults_inertia() {
     check("defaults_inertia", dir().join("synthetic/defaults_inertia.xml"));
 }
+
+/// The Allegro hand has no `<inertial>`: every body's inertia comes from its geoms, the visual
+/// meshes among them (group 2, inside `inertiagrouprange`), with MuJoCo's `legacy` mesh inertia.
+/// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
+///
+/// Not reached yet: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
+/// `qacc` to 7.5e-10 relative (bias 1.6e-11); the suspect is MuJoCo's iterative eigen-decomposition
+/// of the mesh and body inertias (`mjuu_eig3`) on these tiny tensors (1e-7 kg·m²), not checked.
+#[test]
+#[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10 (docs/mjcf.md)"]
+fn allegro_right_hand_inertia_from_meshes() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
+    assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
+    check("allegro_right", path);
+}

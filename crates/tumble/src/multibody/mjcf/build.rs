@@ -75,6 +75,8 @@ pub(super) struct GeomRec<'a> {
     /// `mass` if given, else `density` times the volume.
     pub(super) mass: Option<f64>,
     pub(super) density: f64,
+    /// A mesh geom's `inertia` mode (`legacy`, `exact`, …).
+    pub(super) mesh_inertia: Option<String>,
     pub(super) shape: GeometryShape,
     /// The geom frame in the body frame.
     pub(super) in_body: Pose,
@@ -87,8 +89,8 @@ pub(super) struct GeomRec<'a> {
 pub(super) struct Reader<'a> {
     pub(super) defaults: &'a Defaults,
     pub(super) compiler: Compiler,
-    /// mesh asset name → (file as written, resolved path, scale)
-    pub(super) meshes: HashMap<String, (String, PathBuf, DVec3)>,
+    /// mesh asset name → (file as written, resolved path, scale, `inertia` mode)
+    pub(super) meshes: HashMap<String, (String, PathBuf, DVec3, String)>,
     pub(super) hfields: HashSet<String>,
     pub(super) bodies: Vec<BodyRec<'a>>,
     pub(super) world_geoms: Vec<GeomRec<'a>>,
@@ -302,6 +304,7 @@ fn read_compiler(root: &El, dir: &Path) -> Result<Compiler, MjcfError> {
         v.refuse_unless("balanceinertia", |s| s == "false", "balanceinertia")?;
         v.refuse_unless("discardvisual", |s| s == "false", "discardvisual")?;
         v.refuse_unless("alignfree", |s| s == "false", "alignfree: free joints aligned to the inertial frame")?;
+        v.refuse_unless("exactmeshinertia", |s| s == "false", "exactmeshinertia (give each mesh inertia=\"exact\")")?;
         if let Some(d) = v.str("meshdir") {
             meshdir = Some(d.to_string());
         }
@@ -498,7 +501,8 @@ impl<'a> Reader<'a> {
                         }
                     };
                     let path = self.compiler.meshdir.join(file);
-                    self.meshes.insert(name, (file.to_string(), path, scale));
+                    let mode = v.keyword("inertia", &["legacy", "exact", "convex", "shell"])?.unwrap_or("legacy");
+                    self.meshes.insert(name, (file.to_string(), path, scale, mode.to_string()));
                 }
                 "model" => return Err(el.error(unsupported("<model> assets (attached sub-models)"))),
                 other => return Err(el.error(MjcfErrorKind::Invalid(format!("unknown element <{other}> in <asset>")))),

@@ -28,6 +28,7 @@ mod attrs;
 mod build;
 mod defaults;
 pub mod layout;
+mod mesh_inertia;
 mod pose;
 mod tree;
 mod xml;

@@ -3,6 +3,7 @@
 
 use super::attrs::{all_zero, View};
 use super::build::{unsupported, vec3, BodyRec, GeomRec, JointRec, Kind, Reader, VISUAL};
+use super::mesh_inertia::mesh_mass_properties;
 use super::pose::{orientation, pose, z_to_quat, Pose, ORIENTATIONS};
 use super::xml::El;
 use super::{MjcfError, MjcfErrorKind};
@@ -411,6 +412,7 @@ impl<'a> Reader<'a> {
                 Err(v.err("size", MjcfErrorKind::Invalid(format!("{what} must be > 0 (size[{k}] = {x})"))))
             }
         };
+        let mut mesh_inertia = None;
         let shape = match ty {
             "plane" => GeometryShape::Plane,
             "sphere" => GeometryShape::Sphere { radius: positive(0, "the radius")? },
@@ -442,9 +444,10 @@ impl<'a> Reader<'a> {
             }
             _ => {
                 let Some(name) = v.str("mesh") else { return Err(el.error(MjcfErrorKind::MissingAttribute("mesh"))) };
-                let Some((file, path, scale)) = self.meshes.get(name) else {
+                let Some((file, path, scale, mode)) = self.meshes.get(name) else {
                     return Err(v.err("mesh", MjcfErrorKind::Invalid(format!("no mesh asset named '{name}'"))));
                 };
+                mesh_inertia = Some(mode.clone());
                 GeometryShape::Mesh { uri: file.clone(), path: Some(path.clone()), scale: *scale }
             }
         };
@@ -465,6 +468,7 @@ impl<'a> Reader<'a> {
             counts,
             mass,
             density,
+            mesh_inertia,
             shape,
             in_body,
             contype: contype as u32,
@@ -481,11 +485,28 @@ impl<'a> Reader<'a> {
     fn inertia_from_geoms(&self, index: usize) -> Result<RigidInertia, MjcfError> {
         let mut total = RigidInertia::ZERO;
         for g in self.bodies[index].geoms.iter().filter(|g| g.counts) {
+            if let GeometryShape::Mesh { path: Some(path), scale, uri } = &g.shape {
+                let mode = g.mesh_inertia.as_deref().unwrap_or("legacy");
+                if !matches!(mode, "legacy" | "exact") {
+                    return Err(g.el.error(unsupported(&format!(
+                        "the inertia of a mesh with inertia=\"{mode}\" (legacy and exact are computed)"
+                    ))));
+                }
+                let (volume, com, unit) = mesh_mass_properties(path, *scale, mode == "legacy").map_err(|why| {
+                    g.el.error(MjcfErrorKind::Invalid(format!("mesh '{uri}' ({}): {why}", path.display())))
+                })?;
+                let mass = g.mass.unwrap_or(g.density * volume);
+                if !(mass >= 0.0 && mass.is_finite()) {
+                    return Err(g.el.error(MjcfErrorKind::Invalid(format!("a geom mass of {mass}"))));
+                }
+                // the mesh's centre of mass and tensor in the geom frame, then in the body frame
+                let rot = DMat3::from_quat(g.in_body.rot);
+                let density = mass / volume;
+                total += placed_inertia(mass, g.in_body.pos + rot * com, rot, density * unit);
+                continue;
+            }
             let Some((volume, unit)) = g.shape.unit_mass_properties() else {
-                return Err(g.el.error(unsupported(
-                    "the inertia of a mesh geom (give its body an <inertial>, or put the mesh in a group outside \
-                     inertiagrouprange)",
-                )));
+                return Err(g.el.error(unsupported("the inertia of this geom")));
             };
             let mass = match g.mass {
                 Some(m) => m,
