@@ -281,8 +281,9 @@ fn synthetic_defaults_inertia() {
 /// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
 ///
 /// Not reached yet: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
-/// `qacc` to 7.5e-10 relative (bias 1.6e-11); the suspect is MuJoCo's iterative eigen-decomposition
-/// of the mesh and body inertias (`mjuu_eig3`) on these tiny tensors (1e-7 kg·m²), not checked.
+/// `qacc` to 7.5e-10 relative (bias 1.6e-11). The palm's mass, centre of mass and principal moments
+/// match MuJoCo's to 3e-14, so the gap is in another body; the suspect, unchecked, is MuJoCo's
+/// iterative eigen-decomposition (`mjuu_eig3`) of tiny finger inertias (1e-7 kg·m²).
 #[test]
 #[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10 (docs/mjcf.md)"]
 fn allegro_right_hand_inertia_from_meshes() {
