@@ -41,8 +41,13 @@ pub enum Command {
 /// The robot of `tumble model` and `tumble dynamics`.
 #[derive(Debug, Args)]
 pub struct RobotArgs {
-    /// URDF file.
+    /// URDF file, or an MJCF (MuJoCo) file ending in `.xml`.
     pub urdf: PathBuf,
+
+    /// MJCF only: read joints with `frictionloss` as if it were zero (with a warning each) instead of
+    /// refusing them (dry joint friction is not built yet).
+    #[arg(long)]
+    pub drop_frictionloss: bool,
 
     /// Give the root link a floating base: q = [x, y, z, qw, qx, qy, qz, ...], v = [linear velocity,
     /// angular velocity, ...], both of the base in the base frame.

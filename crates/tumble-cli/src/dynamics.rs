@@ -3,7 +3,10 @@
 //!
 //! Each input line `{"q": [..], "v": [..], "tau": [..]?, "a": [..]?}` gives one output line with
 //! `"mass_matrix"` (CRBA, row by row), `"bias"` (RNEA with zero acceleration), `"qdd"` (ABA, when
-//! `tau` is given) and `"tau"` (RNEA, when `a` is given). Bad input (a line that is not such an
+//! `tau` is given) and `"tau"` (RNEA, when `a` is given). The model's joint damping and springs
+//! (MJCF's `damping`, `stiffness`; none in URDF) act beside `tau`: `qdd = ABA(τ + τ_passive)`, and
+//! the `tau` written is `M a + b − τ_passive`. An MJCF model's state is tumble's (`q = qpos − ref`
+//! for hinges and slides, a free joint's linear velocity in the body frame: `docs/mjcf.md`). Bad input (a line that is not such an
 //! object, wrong lengths, a quaternion that is not of unit length) stops with exit 2 naming the
 //! line, and the output is not written.
 //!
@@ -20,7 +23,7 @@ use serde_json::{json, Map, Value};
 use std::io::{BufWriter, Write};
 use std::time::Instant;
 use tumble::math::DVec3;
-use tumble::multibody::{aba, bias_forces, crba, rnea, MultibodyModel, Workspace};
+use tumble::multibody::{aba, add_passive_forces, bias_forces, crba, rnea, MultibodyModel, Workspace};
 
 /// Input files larger than this are refused before reading (bytes).
 const MAX_INPUT_BYTES: u64 = 512 << 20;
@@ -133,12 +136,20 @@ fn evaluate(model: &MultibodyModel, ws: &mut Workspace, line: &str) -> Result<Va
     let mut result = vec![0.0; nv];
     bias_forces(model, ws, &q, &v, &mut result).map_err(|e| e.to_string())?;
     out.insert("bias".into(), finite("bias", &result)?);
-    if let Some(tau) = field(object, "tau", nv)? {
+    if let Some(mut tau) = field(object, "tau", nv)? {
+        // the model's joint damping and springs act beside τ (none in URDF models)
+        add_passive_forces(model, &q, &v, &mut tau).map_err(|e| e.to_string())?;
         aba(model, ws, &q, &v, &tau, &mut result).map_err(|e| e.to_string())?;
         out.insert("qdd".into(), finite("qdd", &result)?);
     }
     if let Some(a) = field(object, "a", nv)? {
         rnea(model, ws, &q, &v, &a, &mut result).map_err(|e| e.to_string())?;
+        // τ = M a + b − τ_passive: what must be applied beside the model's damping and springs
+        let mut passive = vec![0.0; nv];
+        add_passive_forces(model, &q, &v, &mut passive).map_err(|e| e.to_string())?;
+        for (t, p) in result.iter_mut().zip(&passive).filter(|(_, p)| **p != 0.0) {
+            *t -= p;
+        }
         out.insert("tau".into(), finite("tau", &result)?);
     }
     if rows.iter().flatten().any(|x| !x.is_finite()) {

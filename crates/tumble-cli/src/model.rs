@@ -1,9 +1,12 @@
-//! `tumble model ROBOT.urdf [--floating] [--json]`: the joint layout of a robot.
+//! `tumble model ROBOT.urdf [--floating] [--json]`: the joint layout of a robot (URDF, or MJCF for
+//! a `.xml` file: each MJCF joint a joint of its own, a body with several joints split into one
+//! body per joint, named `BODY/JOINT` but for the last).
 
 use crate::cli::{ModelArgs, RobotArgs};
 use crate::error::{Failure, Status};
 use crate::report::Stdout;
 use serde_json::{json, Value};
+use tumble::multibody::mjcf::{load_mjcf, MjcfOptions};
 use tumble::multibody::{
     load_urdf, reduced_model, ChildOrder, FrameOrigin, LockError, Massless, MultibodyModel, UrdfOptions,
 };
@@ -11,6 +14,26 @@ use tumble::multibody::{
 /// Loads the robot named on the command line (exit 2 with the reader's message), reduced by
 /// `--lock` when it is given.
 pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
+    if is_mjcf(&args.urdf) {
+        let urdf_only = [
+            ("--floating", args.floating),
+            ("--joint-order name", args.joint_order == "name"),
+            ("--balance-inertia", args.balance_inertia),
+            ("--massless fuse", args.massless == "fuse"),
+        ];
+        if let Some((flag, _)) = urdf_only.iter().find(|(_, on)| *on) {
+            return Err(Failure::bad_input(format!(
+                "{flag} applies to URDF files; {} is MJCF (its free joints and joint order are its own)",
+                args.urdf.display()
+            )));
+        }
+        let options = MjcfOptions { drop_frictionloss: args.drop_frictionloss };
+        let model = load_mjcf(&args.urdf, options).map_err(Failure::bad_input)?.model;
+        return if args.lock.is_empty() { Ok(model) } else { lock(&model, &args.lock) };
+    }
+    if args.drop_frictionloss {
+        return Err(Failure::bad_input("--drop-frictionloss applies to MJCF files"));
+    }
     let order = if args.joint_order == "name" { ChildOrder::JointName } else { ChildOrder::File };
     let massless = match (args.massless.as_str(), args.lock.is_empty()) {
         ("fuse", _) => Massless::Fuse,
@@ -33,6 +56,13 @@ pub fn load_robot(args: &RobotArgs) -> Result<MultibodyModel, Failure> {
         return Ok(model);
     }
     lock(&model, &args.lock)
+}
+
+/// An MJCF file: `.xml` or `.mjcf` (URDF files end in `.urdf`).
+pub fn is_mjcf(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml") || e.eq_ignore_ascii_case("mjcf"))
 }
 
 /// `--lock NAME[=VALUE],…`: the model with those joints held at `VALUE` (0 when omitted), every

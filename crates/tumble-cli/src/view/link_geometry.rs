@@ -112,6 +112,16 @@ impl LinkGeometries {
                 super::num(*radius),
                 super::num(*half_length)
             )),
+            GeometryShape::Capsule { radius, half_length } => PartShape::Primitive(format!(
+                "{{\"type\":\"capsule\",\"radius\":{},\"half_height\":{}}}",
+                super::num(*radius),
+                super::num(*half_length)
+            )),
+            // the page has no ellipsoid: drawn as its bounding ball (drawing only)
+            GeometryShape::Ellipsoid { radii } => {
+                PartShape::Primitive(format!("{{\"type\":\"sphere\",\"radius\":{}}}", super::num(radii.max_element())))
+            }
+            GeometryShape::Plane => PartShape::Primitive("{\"type\":\"plane\"}".to_string()),
             GeometryShape::Mesh { uri, path, scale } => {
                 let role = match g.role {
                     GeometryRole::Visual => "visual",

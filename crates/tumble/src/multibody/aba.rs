@@ -5,7 +5,8 @@
 //! Three passes over the tree:
 //! 1. parents first: velocities `v_i`, velocity products `c_i = v_i ×ₘ v_J`, and the rigid-body
 //!    inertias and bias forces `I^A_i = I_i`, `p^A_i = v_i ×* I_i v_i`;
-//! 2. children first: `U_i = I^A_i S_i`, `D_i = S_iᵀ U_i`, `u_i = τ_i − S_iᵀ p^A_i`, and each body's
+//! 2. children first: `U_i = I^A_i S_i`, `D_i = S_iᵀ U_i + a_i 1` (`a_i` the joint's armature, a
+//!    rotor inertia on the joint's own coordinates: Featherstone (2008) §9.6), `u_i = τ_i − S_iᵀ p^A_i`, and each body's
 //!    articulated inertia and bias handed to its parent: `I^a = I^A − U D⁻¹ Uᵀ`,
 //!    `p^a = p^A + I^a c + U D⁻¹ u`, `I^A_λ += λ_X_i* I^a i_X_λ`, `p^A_λ += λ_X_i* p^a`;
 //! 3. parents first: `a' = i_X_λ a_λ + c_i`, `q̈_i = D⁻¹ (u_i − U_iᵀ a')`, `a_i = a' + S_i q̈_i`,
@@ -78,10 +79,14 @@ pub fn aba(
             ws.u_cols[vi + k] = ws.ia[i].mul_motion(*s_k);
             ws.u[vi + k] = tau[vi + k] - s_k.dot(ws.f[i]);
         }
+        let armature = body.joint.dynamics.armature;
         for (k, s_k) in s.iter().enumerate() {
             for l in 0..nj {
-                // D = Sᵀ U
+                // D = Sᵀ U (+ armature on the diagonal)
                 d[k * nj + l] = s_k.dot(ws.u_cols[vi + l]);
+            }
+            if armature != 0.0 {
+                d[k * nj + k] += armature;
             }
         }
         let off = model.block_offset(i);

@@ -6,7 +6,8 @@
 //!
 //! - `S⁰_i = 0_X_i S_i` (the motion subspace in world coordinates) and `I⁰_i = 0_X_i* I_i i_X_0`;
 //! - `I^c_i = I⁰_i + Σ_{children j} I^c_j` (composite inertia of the subtree of `i`), leaves first;
-//! - `F = I^c_i S⁰_i`, `M_ii = S⁰_iᵀ F`, and `M_ij = M_ji = S⁰_jᵀ F` for every ancestor `j` of `i`.
+//! - `F = I^c_i S⁰_i`, `M_ii = S⁰_iᵀ F + a_i` (`a_i` the joint's armature, zero unless given), and
+//!   `M_ij = M_ji = S⁰_jᵀ F` for every ancestor `j` of `i`.
 //!
 //! (Table 6.2 in body coordinates transforms `F` at every step up: `F ← λ(j)_X_j* F`; the products
 //! `S_jᵀ F` are frame-independent, so both give the same `M`.) Entries of `M` whose two coordinates
@@ -50,11 +51,15 @@ pub fn crba<'w>(
     for i in (0..model.nbodies()).rev() {
         let body = &model.bodies[i];
         let vi = body.joint.v_index;
+        let armature = body.joint.dynamics.armature;
         for k in vi..vi + body.joint.kind.nv() {
             // F = I^c_i S⁰_k
             let f = ws.ic[i].mul_motion(ws.s_world[k]);
-            // M_kk = S⁰_kᵀ F
+            // M_kk = S⁰_kᵀ F + armature
             m[(k, k)] = ws.s_world[k].dot(f);
+            if armature != 0.0 {
+                m[(k, k)] += armature;
+            }
             let mut l = model.dof_parent(k);
             while l != NONE {
                 // M_kl = M_lk = S⁰_lᵀ F, for l on the path to the root

@@ -1,8 +1,10 @@
 //! Kinetic and potential energy and the centre of mass of a tree.
 //!
-//! - `T = ½ Σ v_iᵀ I_i v_i` (body frames; Featherstone (2008) §2.13, (2.67)) (J);
+//! - `T = ½ Σ v_iᵀ I_i v_i + ½ Σ a_k v_k²` (body frames; Featherstone (2008) §2.13, (2.67); `a_k` the
+//!   joints' armature, so that `T = ½ vᵀ M v` with CRBA's `M`) (J);
 //! - `V = −Σ m_i g · c_i` with `c_i` the centre of mass of body `i` in the world (J, zero at the
-//!   world origin); what is fixed to the world is left out (it is constant);
+//!   world origin), plus the joint springs' `½ k (q − q_ref)²`; what is fixed to the world is left
+//!   out (it is constant);
 //! - centre of mass `Σ m_i c_i / Σ m_i` over the moving bodies (world frame, m).
 
 use super::fk::{forward_kinematics, update_placements};
@@ -14,7 +16,13 @@ use crate::math::DVec3;
 pub fn kinetic_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64], v: &[f64]) -> Result<f64, LengthError> {
     forward_kinematics(model, ws, q, v)?;
     // T = ½ Σ v_iᵀ I_i v_i
-    Ok(model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum())
+    let mut t: f64 = model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum();
+    // + ½ Σ a_k v_k²
+    for b in model.bodies.iter().filter(|b| b.joint.dynamics.armature != 0.0) {
+        let j = &b.joint;
+        t += 0.5 * j.dynamics.armature * v[j.v_index..j.v_index + j.kind.nv()].iter().map(|x| x * x).sum::<f64>();
+    }
+    Ok(t)
 }
 
 /// Gravitational potential energy `V(q) = −Σ m_i g · c_i` of the moving bodies (J).
@@ -25,6 +33,11 @@ pub fn potential_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64]) -
         // c_i in the world: 0_X_i c_i
         let c_world = x.inv_apply_point(b.inertia.com());
         v -= b.inertia.mass * model.gravity.dot(c_world);
+    }
+    for b in model.bodies.iter().filter(|b| b.joint.dynamics.stiffness != 0.0) {
+        // + ½ k (q − q_ref)²
+        let dq = q[b.joint.q_index] - b.joint.dynamics.spring_ref;
+        v += 0.5 * b.joint.dynamics.stiffness * dq * dq;
     }
     Ok(v)
 }

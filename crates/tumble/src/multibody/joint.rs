@@ -184,6 +184,37 @@ fn quat_rate(q: DQuat, omega: DVec3) -> [f64; 4] {
     [0.5 * r.w, 0.5 * r.x, 0.5 * r.y, 0.5 * r.z]
 }
 
+/// The joint's own passive dynamics, used by every algorithm (zero for a URDF joint):
+///
+/// - `armature` (kg·m² or kg) is added to the mass-matrix diagonal of each of the joint's velocity
+///   coordinates, `M_kk += a` (a rotor's reflected inertia; MuJoCo's `armature`): CRBA adds it to
+///   `M`, ABA to `D = Sᵀ I^A S`, RNEA adds `a q̈`, the kinetic energy `½ a v²`;
+/// - `damping` `d ≥ 0` gives the passive force `−d v` on each of its velocity coordinates;
+/// - `stiffness` `k ≥ 0` gives `−k (q − spring_ref)` (one-coordinate joints only), with
+///   `spring_ref` in this model's coordinates (rad or m) and the potential `½ k (q − spring_ref)²`.
+///
+/// The passive forces enter the joint forces `τ` ([`passive_forces`](super::passive::passive_forces)),
+/// as MuJoCo's `qfrc_passive`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointDynamics {
+    /// Added to `M_kk` for each velocity coordinate `k` of the joint (kg·m² or kg).
+    pub armature: f64,
+    /// Viscous damping `d ≥ 0` (N·m·s/rad or N·s/m): force `−d v`.
+    pub damping: f64,
+    /// Spring stiffness `k ≥ 0` (N·m/rad or N/m): force `−k (q − spring_ref)`.
+    pub stiffness: f64,
+    /// The spring's rest position (rad or m), in this model's coordinates.
+    pub spring_ref: f64,
+}
+
+impl JointDynamics {
+    /// True when every coefficient is zero (a URDF joint).
+    #[inline]
+    pub fn is_zero(&self) -> bool {
+        self.armature == 0.0 && self.damping == 0.0 && self.stiffness == 0.0
+    }
+}
+
 /// Position limits and damping of a joint as read from URDF (not used by the dynamics algorithms).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointLimits {

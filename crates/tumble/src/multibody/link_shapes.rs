@@ -60,6 +60,14 @@ pub fn collision_shapes(model: &MultibodyModel, urdf_file: &str) -> Result<Vec<L
             GeometryShape::Cylinder { radius, half_length } => {
                 Shape::Cylinder { radius: *radius, half_height: *half_length }
             }
+            GeometryShape::Capsule { radius, half_length } => {
+                Shape::Capsule { radius: *radius, half_height: *half_length }
+            }
+            GeometryShape::Plane if body.is_none() => Shape::Plane,
+            GeometryShape::Plane => return Err(fail("a plane must be fixed to the world".into())),
+            GeometryShape::Ellipsoid { .. } => {
+                return Err(fail("an ellipsoid does not collide yet (only its inertia is used)".into()))
+            }
             GeometryShape::Mesh { uri, path, scale } => {
                 let path = path.as_ref().ok_or_else(|| fail(unresolved(model, uri)))?;
                 let soup = read_file(path, &MeshLimits::default())

@@ -1,5 +1,5 @@
 //! Articulated bodies: Featherstone's spatial algebra and recursive algorithms over a kinematic
-//! tree, and robots read from URDF.
+//! tree, and robots read from URDF and MJCF.
 //!
 //! Reference: R. Featherstone, *Rigid Body Dynamics Algorithms*, Springer 2008 (chapter and table
 //! numbers in each module). Spatial vectors are `[angular; linear]`.
@@ -12,6 +12,7 @@
 //! | [`reduce`]    | locked joints: the reduced model (`buildReducedModel`)     | `O(n)` once     |
 //! | [`workspace`] | the mutable [`Workspace`], allocated once                  | —               |
 //! | [`urdf`]      | URDF → model, with file:line:column errors                 | `O(n)`          |
+//! | [`mjcf`]      | MJCF (MuJoCo) → model, the same builder, refusing what it cannot read | `O(n)` |
 //! | [`fk`]        | link poses and velocities                                  | `O(n)`          |
 //! | [`rnea`](mod@rnea) | inverse dynamics `τ = M q̈ + C q̇ + g`, bias forces         | `O(n)`          |
 //! | [`crba`](mod@crba) | the mass matrix `M(q)`                                     | `O(n d)`        |
@@ -20,6 +21,7 @@
 //! | [`impulse_aba`] | `Δv = M⁻¹ J_cᵀ p` of an impulse at a link's point, its `K`, through ABA's `I^A` | `O(n)`, `K` `O(d)` |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
+//! | [`passive`]   | joint damping and springs, `τ = −d v − k (q − q_ref)`        | `O(n)`          |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
 //! | [`limits`]    | joint position limits: speculative impulse + constraint force | `O(n d)` when active |
 //!
@@ -40,7 +42,9 @@ pub mod joint;
 pub mod limits;
 pub mod link_shapes;
 pub mod ltdl;
+pub mod mjcf;
 pub mod model;
+pub mod passive;
 pub mod reduce;
 pub mod rnea;
 pub mod simulate;
@@ -54,13 +58,14 @@ pub use crba::{crba, CrbaError};
 pub use energy::{center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
-pub use joint::{JointKind, JointLimits};
+pub use joint::{JointDynamics, JointKind, JointLimits};
 pub use limits::JointLimitSolver;
 pub use ltdl::{ltdl_factor, ltdl_solve, FactorError};
 pub use model::{
-    Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder, ModelError,
-    MultibodyModel,
+    placed_inertia, Body, Frame, FrameOrigin, GeometryRole, GeometryShape, Joint, LinkGeometry, MeshRef, ModelBuilder,
+    ModelError, MultibodyModel,
 };
+pub use passive::{add_passive_forces, passive_forces, spring_energy};
 pub use reduce::{kept_coordinates, reduced_model, LockError};
 pub(crate) use rnea::bias_forces_placed;
 pub use rnea::{bias_forces, rnea};

@@ -7,10 +7,10 @@
 //!
 //! Coordinates: joint `i` owns `q[q_index .. q_index + nq]` and `v[v_index .. v_index + nv]`.
 
-use super::joint::{JointKind, JointLimits};
+use super::joint::{JointDynamics, JointKind, JointLimits};
 use super::spatial::{Motion, RigidInertia, Xform};
 use super::workspace::{check_len, LengthError};
-use crate::math::DVec3;
+use crate::math::{DMat3, DVec3};
 
 /// Why a model could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -21,6 +21,8 @@ pub enum ModelError {
     NonFinitePlacement { joint: String },
     #[error("body '{body}': its parent index {parent} is not an earlier body")]
     BadParent { body: String, parent: usize },
+    #[error("joint '{joint}': {what}")]
+    BadJointDynamics { joint: String, what: String },
     #[error("body '{body}': its inertia must be finite with mass ≥ 0")]
     BadInertia { body: String },
     #[error(
@@ -47,6 +49,8 @@ pub struct Joint {
     pub v_index: usize,
     /// Limits and damping (informational).
     pub limits: JointLimits,
+    /// Armature, damping and spring, used by the dynamics (zero from URDF).
+    pub dynamics: JointDynamics,
     /// The parent link's name as written in the source (the world for the root).
     pub parent_link: String,
 }
@@ -131,6 +135,63 @@ pub enum GeometryShape {
     /// `<mesh filename scale>`: the file it resolves to (`None`: not resolved, with a warning)
     /// and the scale per axis of the geometry frame (non-zero; a negative factor mirrors).
     Mesh { uri: String, path: Option<std::path::PathBuf>, scale: DVec3 },
+    /// A cylinder of this radius and half length about the frame's z axis, capped by hemispheres
+    /// (MJCF `capsule`; m).
+    Capsule { radius: f64, half_length: f64 },
+    /// An ellipsoid of these semi-axes along the frame's axes (MJCF `ellipsoid`; m).
+    Ellipsoid { radii: DVec3 },
+    /// The half space below the frame's xy plane, normal +z (MJCF `plane`; fixed to the world).
+    Plane,
+}
+
+impl GeometryShape {
+    /// Volume (m³) and the principal moments of inertia per unit mass about the shape's centre, in
+    /// its frame (m²), of a solid of uniform density; `None` for a mesh (not read here) and a
+    /// plane (no volume).
+    ///
+    /// The formulas MuJoCo uses for its primitives (`mjCGeom::SetInertia`): a sphere
+    /// `⅖ r²`; a box of half extents `a, b, c`, `(b² + c²)/3, …`; a cylinder of length `h = 2 l`,
+    /// `(3 r² + h²)/12, …, r²/2`; an ellipsoid `(b² + c²)/5, …`; a capsule as its cylinder plus two
+    /// half balls at its ends, `m_c (3 r² + h²)/12 + m_s (⅖ r² + h (3 r + 2 h)/8)` about x and y,
+    /// `m_c r²/2 + ⅖ m_s r²` about z (`m_c`, `m_s` the masses of the cylinder and of the ball).
+    pub fn unit_mass_properties(&self) -> Option<(f64, DVec3)> {
+        use std::f64::consts::PI;
+        match *self {
+            GeometryShape::Sphere { radius: r } => Some((4.0 / 3.0 * PI * r.powi(3), DVec3::splat(0.4 * r * r))),
+            GeometryShape::Box { half_extents: e } => {
+                let (a, b, c) = (e.x * e.x, e.y * e.y, e.z * e.z);
+                Some((8.0 * e.x * e.y * e.z, DVec3::new(b + c, a + c, a + b) / 3.0))
+            }
+            GeometryShape::Cylinder { radius: r, half_length } => {
+                let h = 2.0 * half_length;
+                let side = (3.0 * r * r + h * h) / 12.0;
+                Some((PI * r * r * h, DVec3::new(side, side, 0.5 * r * r)))
+            }
+            GeometryShape::Ellipsoid { radii: e } => {
+                let (a, b, c) = (e.x * e.x, e.y * e.y, e.z * e.z);
+                Some((4.0 / 3.0 * PI * e.x * e.y * e.z, DVec3::new(b + c, a + c, a + b) / 5.0))
+            }
+            GeometryShape::Capsule { radius: r, half_length } => {
+                let h = 2.0 * half_length;
+                let v_ball = 4.0 / 3.0 * PI * r.powi(3);
+                let v_cyl = PI * r * r * h;
+                let volume = v_ball + v_cyl;
+                // per unit mass: the ball's and the cylinder's shares of it
+                let (m_s, m_c) = (v_ball / volume, v_cyl / volume);
+                let side = m_c * (3.0 * r * r + h * h) / 12.0 + m_s * (0.4 * r * r + h * (3.0 * r + 2.0 * h) / 8.0);
+                Some((volume, DVec3::new(side, side, (0.5 * m_c + 0.4 * m_s) * r * r)))
+            }
+            GeometryShape::Mesh { .. } | GeometryShape::Plane => None,
+        }
+    }
+}
+
+/// The spatial inertia of a part of mass `mass` (kg) whose centre of mass is at `com` (m) and whose
+/// inertia about it is `tensor` (kg·m²) along axes rotated by `axes` (`frame_from_axes`), all in
+/// the frame the result is expressed in: `Ī_c = R I Rᵀ`, then shifted to the frame's origin
+/// (Featherstone (2008) (2.63)). URDF's `<inertial>` and MJCF's `<inertial>` and geoms use it.
+pub fn placed_inertia(mass: f64, com: DVec3, axes: DMat3, tensor: DMat3) -> RigidInertia {
+    RigidInertia::from_com(mass, com, axes * tensor * axes.transpose())
 }
 
 /// One `<collision>` or `<visual>` element of a link: its shape placed in the link frame.
@@ -144,6 +205,12 @@ pub struct LinkGeometry {
     pub shape: GeometryShape,
     /// 1-based line of the `<collision>` or `<visual>` element.
     pub line: u32,
+    /// Collision filter bits (MJCF `contype`, `conaffinity`; 1 and 1 from URDF): two geometries may
+    /// touch when `(contype₁ & conaffinity₂) | (contype₂ & conaffinity₁) ≠ 0`.
+    pub contype: u32,
+    pub conaffinity: u32,
+    /// Sliding friction coefficient given by the source (MJCF `friction[0]`), if any.
+    pub friction: Option<f64>,
 }
 
 /// The immutable model: the tree, joints, inertias and gravity.
@@ -377,6 +444,7 @@ impl ModelBuilder {
             q_index: self.nq,
             v_index: self.nv,
             limits: JointLimits::default(),
+            dynamics: JointDynamics::default(),
             parent_link,
         };
         self.nq += kind.nq();
@@ -400,12 +468,58 @@ impl ModelBuilder {
         }
     }
 
+    /// Sets the armature, damping and spring of the joint of body `index`: each coefficient finite
+    /// and ≥ 0, a spring only on a one-coordinate joint.
+    pub fn set_dynamics(&mut self, index: usize, dynamics: JointDynamics) -> Result<(), ModelError> {
+        let Some(b) = self.bodies.get_mut(index) else { return Ok(()) };
+        let bad = |what: String| ModelError::BadJointDynamics { joint: b.joint.name.clone(), what };
+        for (name, x) in
+            [("armature", dynamics.armature), ("damping", dynamics.damping), ("stiffness", dynamics.stiffness)]
+        {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(bad(format!("{name} must be finite and ≥ 0 (got {x})")));
+            }
+        }
+        if !dynamics.spring_ref.is_finite() {
+            return Err(bad(format!("the spring's reference must be finite (got {})", dynamics.spring_ref)));
+        }
+        if dynamics.stiffness != 0.0 && b.joint.kind.nv() != 1 {
+            return Err(bad(format!("a spring needs a one-coordinate joint (this one is {})", b.joint.kind.name())));
+        }
+        b.joint.dynamics = dynamics;
+        Ok(())
+    }
+
     /// Adds inertia (in the body's frame) to body `index`, or to the world for `None`.
     pub fn add_inertia(&mut self, index: Option<usize>, inertia: RigidInertia) {
         match index.and_then(|i| self.bodies.get_mut(i)) {
             Some(b) => b.inertia += inertia,
             None => self.world_inertia += inertia,
         }
+    }
+
+    /// Places the frame of body `index` (the one [`add_body`](Self::add_body) named after it) at
+    /// `frame_X_body` instead of on the body's joint frame: for a source whose link frame is not
+    /// where the joint moves it about (an MJCF joint with a `pos`).
+    pub fn place_body_frame(&mut self, index: usize, x_from_body: Xform) {
+        if let Some(f) = self.frames.iter_mut().find(|f| f.origin == FrameOrigin::Body(index)) {
+            f.x_from_body = x_from_body;
+        }
+    }
+
+    /// Adds a link fixed to `body` (`None`: the world) at `link_X_body`, with its own inertia
+    /// `inertia_link` (link frame): the inertia joins the body's, the link stays a named frame.
+    pub fn add_fixed_link(
+        &mut self,
+        name: impl Into<String>,
+        body: Option<usize>,
+        x_from_body: Xform,
+        origin: FrameOrigin,
+        inertia_link: RigidInertia,
+    ) {
+        // I_body += link_X_body* I_link body_X_link
+        self.add_inertia(body, inertia_link.transform_to_a(&x_from_body));
+        self.add_frame(name, body, x_from_body, origin, inertia_link);
     }
 
     /// Adds a named frame fixed to `body` (`None`: the world) at `frame_X_body`, for a link whose own

@@ -96,6 +96,7 @@ pub fn reduced_model(model: &MultibodyModel, locked: &[&str], q_full: &[f64]) ->
                 .map_err(LockError::Model)?;
             builder.set_limits(b, j.limits);
             builder.set_parent_link(b, j.parent_link.clone());
+            builder.set_dynamics(b, j.dynamics).map_err(LockError::Model)?;
             owner.push((Some(b), Xform::IDENTITY));
         }
     }

@@ -4,7 +4,8 @@
 //!
 //! Inputs: `q` (nq), `v = q̇` (nv), `a = q̈` (nv); gravity from the model (world frame). Output: the
 //! joint forces `τ` (nv; N·m for revolute, N for prismatic, `[f; n]` in the child frame for a floating
-//! base). Gravity enters as a fictitious upward acceleration of the base, `a_0 = −g`.
+//! base). Gravity enters as a fictitious upward acceleration of the base, `a_0 = −g`. A joint's
+//! armature `a` adds `a q̈` to its coordinates (so that `τ = M q̈ + b` with CRBA's `M`); the bias has none.
 //! Cost: `O(n)`; no allocation.
 
 use super::fk::placements_up;
@@ -103,9 +104,15 @@ fn recursion(model: &MultibodyModel, ws: &mut Workspace, v: &[f64], a: Option<&[
     for i in (0..model.nbodies()).rev() {
         let body = &model.bodies[i];
         let vi = body.joint.v_index;
-        // τ_i = S_iᵀ f_i
+        // τ_i = S_iᵀ f_i (+ armature q̈_i)
         for (k, s_k) in model.subspace(i).iter().enumerate() {
             tau[vi + k] = s_k.dot(ws.f[i]);
+        }
+        let armature = body.joint.dynamics.armature;
+        if let (Some(a), true) = (a, armature != 0.0) {
+            for k in vi..vi + body.joint.kind.nv() {
+                tau[k] += armature * a[k];
+            }
         }
         // f_λ += λ_X_i* f_i
         if let Some(p) = body.parent {

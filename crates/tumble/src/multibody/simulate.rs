@@ -4,7 +4,8 @@
 //! damping, and PD targets, `τ = clamp(τ_const + k_p (q* − q) + k_d (v* − v), ±τ_max) − c v` (PD and
 //! damping on one-coordinate joints only; spherical and floating joints take `τ_const`). The
 //! commanded part is clamped to the joint's effort limit `τ_max` where one is set
-//! ([`Control::effort`]); damping is a passive force and is not clamped.
+//! ([`Control::effort`]); damping is a passive force and is not clamped. The model's own joint
+//! damping and springs ([`super::passive`], MuJoCo's `qfrc_passive`) are added after the clamp.
 //!
 //! Joint position limits ([`JointLimitSolver`], enabled by [`Simulator::set_joint_limits`]) act in
 //! two phases around the integrator: an inelastic, speculative impulse at the start of the step and
@@ -156,6 +157,8 @@ impl Control {
             // passive: −c v (not clamped)
             tau[vi] = applied - self.damping[vi] * v[vi];
         }
+        // the joints' own damping and springs (the model's, zero from URDF): −d v − k (q − q_ref)
+        super::passive::add_unchecked(model, q, v, tau);
     }
 
     fn check(&self, model: &MultibodyModel) -> Result<(), LengthError> {

@@ -42,7 +42,9 @@
 
 use super::balance::{inertia_defect, nearest_physical};
 use super::joint::{JointKind, JointLimits};
-use super::model::{FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, ModelBuilder, ModelError, MultibodyModel};
+use super::model::{
+    placed_inertia, FrameOrigin, GeometryRole, GeometryShape, LinkGeometry, ModelBuilder, ModelError, MultibodyModel,
+};
 use super::spatial::{rpy_rotation, RigidInertia, Xform};
 use crate::body::mass::symmetric_eigen;
 use crate::math::{skew, DMat3, DVec3};
@@ -445,8 +447,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                 .map_err(|e| self.error(links[root_link].node, UrdfErrorKind::Model(e)))?;
             Some(b)
         } else {
-            builder.add_inertia(None, links[root_link].inertia);
-            builder.add_frame(
+            builder.add_fixed_link(
                 links[root_link].name,
                 None,
                 Xform::IDENTITY,
@@ -475,13 +476,11 @@ impl<'a, 'input> Parser<'a, 'input> {
             match kind {
                 None => {
                     // fixed: the child link is part of the parent's body
-                    let inertia_in_body = child_link.inertia.transform_to_a(&x_tree);
-                    builder.add_inertia(parent_body, inertia_in_body);
                     let origin = FrameOrigin::Fixed {
                         joint: joint.name.to_string(),
                         parent_link: links[joint.parent].name.to_string(),
                     };
-                    builder.add_frame(child_link.name, parent_body, x_tree, origin, child_link.inertia);
+                    builder.add_fixed_link(child_link.name, parent_body, x_tree, origin, child_link.inertia);
                     link_body[joint.child] = Some((parent_body, x_tree));
                 }
                 Some(kind) => {
@@ -597,7 +596,16 @@ impl<'a, 'input> Parser<'a, 'input> {
                 other => Err(format!("unknown geometry <{other}>")),
             };
             match shape {
-                Ok(shape) => geometries.push(LinkGeometry { link: name.into(), role, x_from_link, shape, line }),
+                Ok(shape) => geometries.push(LinkGeometry {
+                    link: name.into(),
+                    role,
+                    x_from_link,
+                    shape,
+                    line,
+                    contype: 1,
+                    conaffinity: 1,
+                    friction: None,
+                }),
                 Err(why) => skip(warnings, why),
             }
         }
@@ -628,7 +636,9 @@ impl<'a, 'input> Parser<'a, 'input> {
                 GeometryShape::Box { half_extents } => *half_extents,
                 GeometryShape::Sphere { radius } => DVec3::splat(*radius),
                 GeometryShape::Cylinder { radius, half_length } => DVec3::new(*radius, *radius, *half_length),
-                GeometryShape::Mesh { .. } => return,
+                GeometryShape::Capsule { radius, half_length } => DVec3::new(*radius, *radius, *half_length + *radius),
+                GeometryShape::Ellipsoid { radii } => *radii,
+                GeometryShape::Mesh { .. } | GeometryShape::Plane => return,
             };
             for k in 0..8 {
                 let sign = DVec3::new(
@@ -700,7 +710,7 @@ impl<'a, 'input> Parser<'a, 'input> {
                      dynamics stay consistent (`balance_inertia = true` replaces it by the nearest physical one)",
                     self.file, pos.row, pos.col, name, defect
                 ));
-                return Ok(RigidInertia::from_com(mass, com, rot * tensor * rot.transpose()));
+                return Ok(placed_inertia(mass, com, rot, tensor));
             }
             if !self.options.balance_inertia {
                 let at = if mass == 0.0 { mass_node } else { node };
@@ -716,7 +726,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             tensor = balanced.tensor;
         }
         // I_c in the link axes: R I Rᵀ; then shifted to the link origin
-        Ok(RigidInertia::from_com(mass, com, rot * tensor * rot.transpose()))
+        Ok(placed_inertia(mass, com, rot, tensor))
     }
 
     fn joint(

@@ -1,0 +1,138 @@
+//! `tumble model` and `tumble dynamics` on MJCF files: the layout, MuJoCo's dynamics through the
+//! CLI, and refusals with exit status 2 naming file, line and column.
+
+mod common;
+
+use common::tumble;
+use serde_json::Value;
+use std::fs;
+use std::path::PathBuf;
+
+fn mjcf() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tumble/tests/fixtures/mjcf")
+}
+
+fn run(args: &[&str]) -> (Option<i32>, String, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let output = tumble(dir.path()).args(args).output().unwrap();
+    (
+        output.status.code(),
+        String::from_utf8(output.stdout).unwrap(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+/// `max |a − b| / max |b|`.
+fn relative(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs())) / scale
+}
+
+#[test]
+fn model_lists_the_mjcf_joints_and_splits_a_body_with_several() {
+    let hopper = mjcf().join("gymnasium/hopper.xml");
+    let (code, out, err) = run(&["model", hopper.to_str().unwrap(), "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let layout: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((layout["nq"].as_u64(), layout["nv"].as_u64()), (Some(6), Some(6)));
+    let joints = layout["joints"].as_array().unwrap();
+    let movable: Vec<(&str, &str, &str)> = joints
+        .iter()
+        .filter(|j| j["type"] != "fixed")
+        .map(|j| (j["name"].as_str().unwrap(), j["type"].as_str().unwrap(), j["child"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        movable,
+        [
+            ("rootx", "prismatic", "torso/rootx"),
+            ("rootz", "prismatic", "torso/rootz"),
+            ("rooty", "continuous", "torso"),
+            ("thigh_joint", "revolute", "thigh"),
+            ("leg_joint", "revolute", "leg"),
+            ("foot_joint", "revolute", "foot"),
+        ]
+    );
+    // MuJoCo's body masses summed (the fixture's)
+    let fixture: Value = serde_json::from_str(&fs::read_to_string(mjcf().join("hopper.json")).unwrap()).unwrap();
+    let mass: f64 = numbers(&fixture["body_mass"]).iter().sum();
+    assert!((layout["total_mass"].as_f64().unwrap() - mass).abs() <= 1e-12 * mass);
+}
+
+/// The half cheetah (slides and hinges, no `ref`: tumble's state is MuJoCo's): the CLI's mass
+/// matrix and `qdd` at `τ = 0` are MuJoCo's `mj_fullM` and contact-free `qacc` (its joint damping
+/// and springs included).
+#[test]
+fn dynamics_of_an_mjcf_model_agree_with_mujoco() {
+    let model = mjcf().join("gymnasium/half_cheetah.xml");
+    let fixture: Value = serde_json::from_str(&fs::read_to_string(mjcf().join("half_cheetah.json")).unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.jsonl");
+    let out = dir.path().join("out.jsonl");
+    let states = fixture["states"].as_array().unwrap();
+    let nv = fixture["nv"].as_u64().unwrap() as usize;
+    let lines: Vec<String> = states
+        .iter()
+        .map(|s| serde_json::json!({"q": s["qpos"], "v": s["qvel"], "tau": vec![0.0; nv]}).to_string())
+        .collect();
+    fs::write(&input, lines.join("\n") + "\n").unwrap();
+    let output = tumble(dir.path())
+        .args(["dynamics", model.to_str().unwrap(), "--input", input.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let text = fs::read_to_string(&out).unwrap();
+    for (line, s) in text.lines().zip(states) {
+        let r: Value = serde_json::from_str(line).unwrap();
+        let m: Vec<f64> = r["mass_matrix"].as_array().unwrap().iter().flat_map(numbers).collect();
+        assert!(relative(&m, &numbers(&s["mass_matrix"])) <= 1e-10);
+        assert!(relative(&numbers(&r["bias"]), &numbers(&s["qfrc_bias"])) <= 1e-10);
+        assert!(relative(&numbers(&r["qdd"]), &numbers(&s["qacc"])) <= 1e-10);
+    }
+}
+
+#[test]
+fn closed_loops_are_refused_with_exit_2_naming_the_equality() {
+    let gripper = mjcf().join("menagerie/robotiq_2f85/2f85.xml");
+    let (code, _, err) = run(&["model", gripper.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("2f85.xml:173:5: <connect>: not supported (an <equality> constraint"), "{err}");
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.jsonl");
+    fs::write(&input, "{\"q\": [], \"v\": []}\n").unwrap();
+    let out = dir.path().join("out.jsonl");
+    let output = tumble(dir.path())
+        .args([
+            "dynamics",
+            gripper.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(!out.exists());
+}
+
+#[test]
+fn urdf_flags_are_refused_on_mjcf_files_and_frictionloss_needs_the_flag() {
+    let ant = mjcf().join("gymnasium/ant.xml");
+    let (code, _, err) = run(&["model", ant.to_str().unwrap(), "--floating"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--floating applies to URDF files"), "{err}");
+    let anymal = mjcf().join("menagerie/anymal_c.xml");
+    let (code, _, err) = run(&["model", anymal.to_str().unwrap()]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("<joint frictionloss>: not supported"), "{err}");
+    let (code, out, err) = run(&["model", anymal.to_str().unwrap(), "--drop-frictionloss", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let layout: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((layout["nq"].as_u64(), layout["nv"].as_u64()), (Some(19), Some(18)));
+    assert!(err.contains("frictionloss") && err.contains("dropped"), "{err}");
+}

@@ -1,0 +1,291 @@
+//! The tree read from MJCF handed to the [`ModelBuilder`]: tumble bodies, frames, geometry and
+//! the MuJoCo layout; the actuators and contact exclusions recorded.
+
+use super::attrs::{all_zero, View};
+use super::build::{unsupported, Kind, Reader};
+use super::layout::{LayoutJoint, MujocoLayout};
+use super::pose::Pose;
+use super::xml::El;
+use super::{MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind};
+use crate::math::DVec3;
+use crate::multibody::joint::{JointDynamics, JointKind, JointLimits};
+use crate::multibody::model::{FrameOrigin, GeometryRole, LinkGeometry, ModelBuilder};
+use crate::multibody::spatial::{RigidInertia, Xform};
+
+impl<'a> Reader<'a> {
+    /// `<contact>`: `<exclude>` pairs recorded; `<pair>` refused.
+    pub(super) fn contact(&self, root: &'a El) -> Result<Vec<(String, String)>, MjcfError> {
+        let mut out = Vec::new();
+        for el in root.children.iter().filter(|e| e.tag == "contact") {
+            for c in &el.children {
+                match c.tag.as_str() {
+                    "exclude" => {
+                        let v = View::new(c, None);
+                        v.check_known(&["name", "body1", "body2"])?;
+                        let body = |k: &'static str| -> Result<String, MjcfError> {
+                            let n = v.str(k).ok_or_else(|| c.error(MjcfErrorKind::MissingAttribute(k)))?;
+                            if !self.body_names.contains_key(n) && n != "world" {
+                                return Err(v.err(k, MjcfErrorKind::Invalid(format!("no body named '{n}'"))));
+                            }
+                            Ok(n.to_string())
+                        };
+                        out.push((body("body1")?, body("body2")?));
+                    }
+                    "pair" => return Err(c.error(unsupported("explicit contact pairs"))),
+                    other => {
+                        return Err(c.error(MjcfErrorKind::Invalid(format!("unknown element <{other}> in <contact>"))))
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// `<compiler settotalmass>`: every body's mass and inertia scaled by the same factor.
+    pub(super) fn scale_total_mass(&mut self, root: &El) -> Result<(), MjcfError> {
+        let Some(target) = self.compiler.total_mass else { return Ok(()) };
+        let total: f64 = self.bodies.iter().map(|b| b.inertia.mass).sum();
+        if !(total > 0.0) {
+            return Err(root.error(MjcfErrorKind::Invalid("settotalmass on a model without mass".into())));
+        }
+        let k = target / total;
+        for b in &mut self.bodies {
+            b.inertia = RigidInertia { mass: k * b.inertia.mass, h: k * b.inertia.h, i_o: k * b.inertia.i_o };
+        }
+        Ok(())
+    }
+
+    /// The tree handed to the builder: per MJCF body one tumble body per joint, the geometry and
+    /// the frames; the layout of MuJoCo's coordinates; where each MJCF body sits.
+    pub(super) fn assemble(
+        &mut self,
+        name: &str,
+        root: &El,
+        gravity: DVec3,
+    ) -> Result<(crate::multibody::MultibodyModel, MujocoLayout, Vec<MjcfBody>), MjcfError> {
+        let mut builder = ModelBuilder::new(name);
+        builder.add_frame("world", None, Xform::IDENTITY, FrameOrigin::Root, RigidInertia::ZERO);
+        let mut placed: Vec<MjcfBody> =
+            vec![MjcfBody { name: "world".into(), body: None, pose_in_body: Pose::IDENTITY }];
+        let mut layout = Vec::new();
+        for b in &self.bodies {
+            let parent = match b.parent {
+                Some(p) => &placed[p + 1],
+                None => &placed[0],
+            };
+            // the body frame in the parent's tumble body: parent frame ∘ in_parent
+            let frame_in_parent = parent.pose_in_body.then(&b.in_parent);
+            let (body, pose_in_body) = if b.joints.is_empty() {
+                let origin =
+                    FrameOrigin::Fixed { joint: format!("{}(weld)", b.name), parent_link: parent.name.clone() };
+                // link_X_body of the welded body; its inertia moves with it
+                builder.add_fixed_link(&b.name, parent.body, frame_in_parent.xform(), origin, b.inertia);
+                (parent.body, frame_in_parent)
+            } else {
+                let mut tumble_parent = parent.body;
+                // the joint frame of the previous joint in this body, in the body frame
+                let previous = frame_in_parent;
+                let mut last_anchor = DVec3::ZERO;
+                let n = b.joints.len();
+                for (k, j) in b.joints.iter().enumerate() {
+                    let last = k + 1 == n;
+                    // X_T: the joint frame (at the anchor, body axes) in the previous tumble body
+                    let x_tree = match j.kind {
+                        Kind::Free => Pose::IDENTITY,
+                        _ if k == 0 => previous.then(&Pose::translation(j.anchor)),
+                        _ => Pose::translation(j.anchor - last_anchor),
+                    };
+                    let kind = match j.kind {
+                        Kind::Hinge if j.range.is_some() => JointKind::Revolute { axis: j.axis },
+                        Kind::Hinge => JointKind::Continuous { axis: j.axis },
+                        Kind::Slide => JointKind::Prismatic { axis: j.axis },
+                        Kind::Ball => JointKind::Spherical,
+                        Kind::Free => JointKind::Floating,
+                    };
+                    // the mass sits on the last joint's body, in its frame: the body frame is at −anchor
+                    let inertia = if last {
+                        b.inertia.transform_to_a(&Pose::translation(-j.anchor).xform())
+                    } else {
+                        RigidInertia::ZERO
+                    };
+                    let body_name = if last { b.name.clone() } else { format!("{}/{}", b.name, j.name) };
+                    let i = builder
+                        .add_body(body_name, tumble_parent, &j.name, kind, x_tree.xform(), inertia)
+                        .map_err(|e| j.el.error(MjcfErrorKind::Model(e)))?;
+                    builder.set_parent_link(i, &parent.name);
+                    let mut limits = JointLimits::default();
+                    limits.position = j.range.map(|(lo, hi)| (lo - j.reference, hi - j.reference));
+                    builder.set_limits(i, limits);
+                    let dynamics = JointDynamics { spring_ref: j.springref - j.reference, ..j.dynamics };
+                    builder.set_dynamics(i, dynamics).map_err(|e| j.el.error(MjcfErrorKind::Model(e)))?;
+                    layout.push(LayoutJoint {
+                        name: j.name.clone(),
+                        free: j.kind == Kind::Free,
+                        reference: if matches!(j.kind, Kind::Hinge | Kind::Slide) { j.reference } else { 0.0 },
+                        free_pose0: (j.kind == Kind::Free).then_some(frame_in_parent),
+                    });
+                    tumble_parent = Some(i);
+                    last_anchor = if j.kind == Kind::Free { DVec3::ZERO } else { j.anchor };
+                }
+                let i = tumble_parent.expect("a body with joints");
+                let pose_in_body = Pose::translation(-last_anchor);
+                builder.place_body_frame(i, pose_in_body.xform());
+                (Some(i), pose_in_body)
+            };
+            placed.push(MjcfBody { name: b.name.clone(), body, pose_in_body });
+        }
+        // geometry: each geom in its body's frame (the link is the MJCF body's frame)
+        let world_geoms = std::mem::take(&mut self.world_geoms);
+        let link_geoms = world_geoms
+            .iter()
+            .map(|g| ("world".to_string(), g))
+            .chain(self.bodies.iter().flat_map(|b| b.geoms.iter().map(move |g| (b.name.clone(), g))));
+        for (link, g) in link_geoms {
+            let role = if g.contype | g.conaffinity != 0 { GeometryRole::Collision } else { GeometryRole::Visual };
+            builder.add_geometry(LinkGeometry {
+                link,
+                role,
+                x_from_link: g.in_body.xform(),
+                shape: g.shape.clone(),
+                line: g.line,
+                contype: g.contype,
+                conaffinity: g.conaffinity,
+                friction: g.friction,
+            });
+        }
+        for w in self.warnings.drain(..) {
+            builder.warn(w);
+        }
+        let mut model = builder.build().map_err(|e| {
+            let at = match &e {
+                crate::multibody::ModelError::MasslessSubtree { joint, .. } => self
+                    .bodies
+                    .iter()
+                    .flat_map(|b| b.joints.iter())
+                    .find(|j| &j.name == joint)
+                    .map(|j| j.el)
+                    .unwrap_or(root),
+                _ => root,
+            };
+            at.error(MjcfErrorKind::Model(e))
+        })?;
+        model.gravity = gravity;
+        let layout = MujocoLayout::new(&model, layout);
+        Ok((model, layout, placed))
+    }
+}
+
+/// `<actuator>`: `motor`, `position`, `velocity` and `general` on joints, recorded.
+pub(super) fn reader_actuators(
+    reader: &Reader,
+    root: &El,
+    model: &crate::multibody::MultibodyModel,
+) -> Result<Vec<MjcfActuator>, MjcfError> {
+    let mut out = Vec::new();
+    for el in root.children.iter().filter(|e| e.tag == "actuator") {
+        for a in &el.children {
+            let kind = a.tag.as_str();
+            if !matches!(kind, "motor" | "position" | "velocity" | "general") {
+                return Err(a.error(unsupported(&format!(
+                    "<{kind}> actuators (motor, position, velocity and general are read)"
+                ))));
+            }
+            let v = reader.view(a, None)?;
+            v.check_known(&[
+                "name",
+                "class",
+                "group",
+                "ctrllimited",
+                "forcelimited",
+                "actlimited",
+                "ctrlrange",
+                "forcerange",
+                "actrange",
+                "lengthrange",
+                "gear",
+                "cranklength",
+                "joint",
+                "jointinparent",
+                "tendon",
+                "cranksite",
+                "site",
+                "refsite",
+                "body",
+                "dyntype",
+                "gaintype",
+                "biastype",
+                "dynprm",
+                "gainprm",
+                "biasprm",
+                "actearly",
+                "actdim",
+                "user",
+                "kp",
+                "kv",
+                "dampratio",
+                "timeconst",
+                "inheritrange",
+                "nsample",
+                "interp",
+                "delay",
+            ])?;
+            for t in ["tendon", "site", "body", "jointinparent", "cranksite"] {
+                if v.get(t).is_some() {
+                    return Err(v.err(t, unsupported("actuators on anything but a joint")));
+                }
+            }
+            let Some(joint) = v.str("joint") else { return Err(a.error(MjcfErrorKind::MissingAttribute("joint"))) };
+            if model.joint_index(joint).is_none() {
+                return Err(v.err("joint", MjcfErrorKind::Invalid(format!("no joint named '{joint}'"))));
+            }
+            v.refuse_unless("dyntype", |s| s == "none", "actuator activation dynamics")?;
+            v.refuse_unless("gaintype", |s| s == "fixed", "a gain that is not fixed")?;
+            v.refuse_unless("biastype", |s| s == "none" || s == "affine", "a bias that is not affine")?;
+            v.refuse_unless("dampratio", all_zero, "dampratio")?;
+            v.refuse_unless("timeconst", all_zero, "timeconst: activation dynamics")?;
+            v.refuse_unless("inheritrange", all_zero, "inheritrange")?;
+            let gear = v.numbers("gear")?.unwrap_or_else(|| vec![1.0]);
+            if gear.iter().skip(1).any(|&g| g != 0.0) {
+                return Err(v.err("gear", unsupported("a gear with more than one component on a joint")));
+            }
+            let (gain, bias) = match kind {
+                "motor" => (1.0, [0.0; 3]),
+                "position" => {
+                    let (kp, kv) = (v.f64("kp", 1.0)?, v.f64("kv", 0.0)?);
+                    (kp, [0.0, -kp, -kv])
+                }
+                "velocity" => {
+                    let kv = v.f64("kv", 1.0)?;
+                    (kv, [0.0, 0.0, -kv])
+                }
+                _ => {
+                    let g = v.numbers("gainprm")?.unwrap_or_else(|| vec![1.0]);
+                    let b = v.numbers("biasprm")?.unwrap_or_default();
+                    let affine = v.str("biastype") == Some("affine");
+                    let bb = |k: usize| if affine { b.get(k).copied().unwrap_or(0.0) } else { 0.0 };
+                    (g.first().copied().unwrap_or(1.0), [bb(0), bb(1), bb(2)])
+                }
+            };
+            let limited = |flag: &str, range: &str| -> Result<Option<(f64, f64)>, MjcfError> {
+                let r = v.vec(range, 2)?;
+                let on = match v.keyword(flag, &["true", "false", "auto"])?.unwrap_or("auto") {
+                    "true" => true,
+                    "false" => false,
+                    _ => reader.compiler.autolimits && r.is_some(),
+                };
+                Ok(if on { r.map(|r| (r[0], r[1])) } else { None })
+            };
+            out.push(MjcfActuator {
+                name: v.str("name").map(str::to_string).unwrap_or_else(|| format!("actuator{}", out.len())),
+                kind: kind.to_string(),
+                joint: joint.to_string(),
+                gear: gear.first().copied().unwrap_or(1.0),
+                gain,
+                bias,
+                ctrl_range: limited("ctrllimited", "ctrlrange")?,
+                force_range: limited("forcelimited", "forcerange")?,
+            });
+        }
+    }
+    Ok(out)
+}

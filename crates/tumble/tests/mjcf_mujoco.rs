@@ -1,0 +1,293 @@
+//! MJCF models against MuJoCo itself: the Gymnasium tasks and Menagerie robots read by
+//! `load_mjcf`, at random states, agree with MuJoCo's mass matrix (`mj_fullM`), bias forces
+//! (`qfrc_bias`), passive forces (`qfrc_passive`), contact-free forward dynamics (`qacc`) to 1e-10
+//! relative, and with the body poses of `mj_kinematics` (`xpos`, `xquat`) and body velocities
+//! (`mj_objectVelocity`, local) to 1e-12. The fixtures are MuJoCo's own numbers in its own
+//! conventions (`tools/mjcf_fixtures.py`); `MujocoLayout` maps tumble's to them, so the joint layout
+//! (free joint: linear velocity in the world frame, angular in the body frame) is under test too.
+
+use nalgebra::DMatrix;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use tumble::math::{DMat3, DQuat, DVec3};
+use tumble::multibody::mjcf::{load_mjcf, Mjcf, MjcfOptions};
+use tumble::multibody::{aba, bias_forces, crba, forward_kinematics, passive_forces, Workspace};
+
+#[derive(Deserialize)]
+struct Fixture {
+    nq: usize,
+    nv: usize,
+    qpos0: Vec<f64>,
+    bodies: Vec<Option<String>>,
+    joints: Vec<Option<String>>,
+    gravity: Vec<f64>,
+    timestep: f64,
+    states: Vec<State>,
+}
+
+#[derive(Deserialize)]
+struct State {
+    qpos: Vec<f64>,
+    qvel: Vec<f64>,
+    mass_matrix: Vec<f64>,
+    qfrc_bias: Vec<f64>,
+    qfrc_passive: Vec<f64>,
+    qacc: Vec<f64>,
+    xpos: Vec<f64>,
+    xquat: Vec<f64>,
+    body_velocity: Vec<f64>,
+}
+
+const DYNAMICS_TOL: f64 = 1e-10;
+const POSE_TOL: f64 = 1e-12;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf")
+}
+
+fn fixture(name: &str) -> Fixture {
+    let text = std::fs::read_to_string(dir().join(format!("{name}.json"))).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+/// `max |a − b| / max |b|` (the largest entry of `b` sets the scale; 1 if `b` is all zero).
+fn relative(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let diff = a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    if scale > 0.0 {
+        diff / scale
+    } else {
+        diff
+    }
+}
+
+/// The largest relative errors of one model over its states.
+#[derive(Debug, Default)]
+struct Errors {
+    mass_matrix: f64,
+    bias: f64,
+    passive: f64,
+    qacc: f64,
+    pose: f64,
+    velocity: f64,
+}
+
+fn compare(name: &str, model_file: &Path, options: MjcfOptions) -> Errors {
+    let fx = fixture(name);
+    let mjcf: Mjcf = load_mjcf(model_file, options).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let model = &mjcf.model;
+    assert_eq!((model.nq(), model.nv()), (fx.nq, fx.nv), "{name}: nq, nv");
+    assert_eq!(mjcf.layout.qpos0(), fx.qpos0, "{name}: qpos0");
+    assert_eq!(mjcf.layout.joints.len(), fx.joints.len(), "{name}: joints");
+    for (j, want) in mjcf.layout.joints.iter().zip(&fx.joints) {
+        if let Some(want) = want {
+            assert_eq!(&j.name, want, "{name}: joint order");
+        }
+    }
+    assert_eq!(mjcf.bodies.len(), fx.bodies.len(), "{name}: bodies");
+    for (b, want) in mjcf.bodies.iter().zip(&fx.bodies) {
+        if let Some(want) = want {
+            assert_eq!(&b.name, want, "{name}: body order");
+        }
+    }
+    assert_eq!(model.gravity.to_array().to_vec(), fx.gravity, "{name}: gravity");
+    assert_eq!(mjcf.option.timestep, fx.timestep, "{name}: timestep");
+    let nv = model.nv();
+    let mut ws = Workspace::new(model);
+    let mut e = Errors::default();
+    for s in &fx.states {
+        let (q, v) = mjcf.layout.state_from_mujoco(&s.qpos, &s.qvel).unwrap();
+        // and back
+        let (qpos, qvel) = mjcf.layout.state_to_mujoco(&q, &v).unwrap();
+        assert!(relative(&qpos, &s.qpos) <= 1e-14 && relative(&qvel, &s.qvel) <= 1e-14, "{name}: layout round trip");
+
+        let m: DMatrix<f64> = crba(model, &mut ws, &q).unwrap().clone();
+        let m_mj = mjcf.layout.mass_matrix_to_mujoco(&q, &m).unwrap();
+        // fixture rows → column-major nalgebra
+        let want_m = DMatrix::from_row_slice(nv, nv, &s.mass_matrix);
+        e.mass_matrix = e.mass_matrix.max(relative(m_mj.as_slice(), want_m.as_slice()));
+
+        let mut b = vec![0.0; nv];
+        bias_forces(model, &mut ws, &q, &v, &mut b).unwrap();
+        let b_mj = mjcf.layout.bias_to_mujoco(&q, &v, &b, &m).unwrap();
+        e.bias = e.bias.max(relative(&b_mj, &s.qfrc_bias));
+
+        let mut passive = vec![0.0; nv];
+        passive_forces(model, &q, &v, &mut passive).unwrap();
+        let passive_mj = mjcf.layout.force_to_mujoco(&q, &passive).unwrap();
+        e.passive = e.passive.max(relative(&passive_mj, &s.qfrc_passive));
+
+        let mut qdd = vec![0.0; nv];
+        aba(model, &mut ws, &q, &v, &passive, &mut qdd).unwrap();
+        let qacc = mjcf.layout.acceleration_to_mujoco(&q, &v, &qdd).unwrap();
+        e.qacc = e.qacc.max(relative(&qacc, &s.qacc));
+        // and the other way
+        let qdd_back = mjcf.layout.acceleration_from_mujoco(&q, &v, &qacc).unwrap();
+        assert!(relative(&qdd_back, &qdd) <= 1e-13, "{name}: acceleration map round trip");
+
+        forward_kinematics(model, &mut ws, &q, &v).unwrap();
+        let mut pos = Vec::new();
+        let mut quat_err = 0.0_f64;
+        let mut vel = Vec::new();
+        for (k, body) in mjcf.bodies.iter().enumerate() {
+            // world_from_mjcfbody = world_from_body ∘ body_from_mjcfbody
+            let (rot_body, origin_body, omega_body, v_origin_body) = match body.body {
+                Some(i) => {
+                    let x = &ws.x_world[i];
+                    (DQuat::from_mat3(&x.rotation_a_from_b()), x.r, ws.v[i].ang, ws.v[i].lin)
+                }
+                None => (DQuat::IDENTITY, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO),
+            };
+            let p = body.pose_in_body;
+            let xpos = origin_body + rot_body * p.pos;
+            let xquat = (rot_body * p.rot).normalize();
+            pos.extend(xpos.to_array());
+            let want = DQuat::from_xyzw(s.xquat[4 * k + 1], s.xquat[4 * k + 2], s.xquat[4 * k + 3], s.xquat[4 * k]);
+            // q and −q are one rotation
+            quat_err = quat_err.max((xquat - want).length().min((xquat + want).length()));
+            // [ω; v] of the MJCF body's origin in its frame: Rᵀ ω, Rᵀ (v_O + ω × p)
+            let r_t = DMat3::from_quat(p.rot).transpose();
+            vel.extend((r_t * omega_body).to_array());
+            vel.extend((r_t * (v_origin_body + omega_body.cross(p.pos))).to_array());
+        }
+        e.pose = e.pose.max(relative(&pos, &s.xpos)).max(quat_err);
+        e.velocity = e.velocity.max(relative(&vel, &s.body_velocity));
+    }
+    e
+}
+
+fn check(name: &str, file: PathBuf) {
+    check_with(name, file, MjcfOptions::default())
+}
+
+fn check_with(name: &str, file: PathBuf, options: MjcfOptions) {
+    let e = compare(name, &file, options);
+    eprintln!(
+        "{name:>26}: M {:.1e}  bias {:.1e}  passive {:.1e}  qacc {:.1e}  poses {:.1e}  velocities {:.1e}",
+        e.mass_matrix, e.bias, e.passive, e.qacc, e.pose, e.velocity
+    );
+    for (what, err, tol) in [
+        ("mass matrix", e.mass_matrix, DYNAMICS_TOL),
+        ("qfrc_bias", e.bias, DYNAMICS_TOL),
+        ("qfrc_passive", e.passive, DYNAMICS_TOL),
+        ("qacc", e.qacc, DYNAMICS_TOL),
+        ("xpos/xquat", e.pose, POSE_TOL),
+        ("body velocity", e.velocity, POSE_TOL),
+    ] {
+        assert!(err <= tol, "{name}: {what} differs from MuJoCo's by {err:e} relative (allowed {tol:e})");
+    }
+}
+
+fn gymnasium(name: &str) {
+    check(name, dir().join("gymnasium").join(format!("{name}.xml")));
+}
+
+#[test]
+fn ant() {
+    gymnasium("ant");
+}
+#[test]
+fn half_cheetah() {
+    gymnasium("half_cheetah");
+}
+#[test]
+fn hopper() {
+    gymnasium("hopper");
+}
+#[test]
+fn walker2d() {
+    gymnasium("walker2d");
+}
+#[test]
+fn humanoid() {
+    gymnasium("humanoid");
+}
+#[test]
+fn humanoidstandup() {
+    gymnasium("humanoidstandup");
+}
+#[test]
+fn reacher() {
+    gymnasium("reacher");
+}
+#[test]
+fn pusher() {
+    gymnasium("pusher");
+}
+#[test]
+fn inverted_pendulum() {
+    gymnasium("inverted_pendulum");
+}
+#[test]
+fn inverted_double_pendulum() {
+    gymnasium("inverted_double_pendulum");
+}
+/// ANYmal C's joints have `frictionloss` (a constraint tumble does not build yet): compared with it
+/// dropped here and disabled in MuJoCo (the fixtures disable friction loss for every model).
+#[test]
+fn anymal_c() {
+    let path = dir().join("menagerie/anymal_c.xml");
+    let err = load_mjcf(&path, MjcfOptions::default()).unwrap_err();
+    assert!(err.is_unsupported() && err.to_string().contains("<joint frictionloss>"), "{err}");
+    check_with("anymal_c", path, MjcfOptions { drop_frictionloss: true });
+}
+#[test]
+fn iiwa14() {
+    check("iiwa14", dir().join("menagerie/iiwa14.xml"));
+}
+
+/// The swimmer moves through a viscous medium (`<option density viscosity>`): MuJoCo's fluid forces
+/// are not modelled, so the model is refused, naming the attribute.
+#[test]
+fn swimmer_is_refused_for_its_fluid() {
+    let err = load_mjcf(&dir().join("gymnasium/swimmer.xml"), MjcfOptions::default()).unwrap_err();
+    let text = err.to_string();
+    assert!(err.is_unsupported(), "{text}");
+    assert!(text.contains("<option density>") && text.contains("not supported"), "{text}");
+}
+
+/// Small models written for the conventions: every orientation form in degrees, a frame,
+/// `childclass`, a slide `ref`, a hinge `ref` and anchor.
+#[test]
+fn synthetic_orientations() {
+    check("orientations", dir().join("synthetic/orientations.xml"));
+}
+
+/// `eulerseq="ZYX"` (fixed axes) in radians, a ball joint, two joints in one body with a spring
+/// and `springref`, a limited hinge.
+#[test]
+fn synthetic_eulerseq_radian() {
+    check("eulerseq_radian", dir().join("synthetic/eulerseq_radian.xml"));
+}
+
+/// `eulerseq="zXy"` (mixed), a `<freejoint>` body whose inertia comes from a geom with `mass` and
+/// one with the default density.
+#[test]
+fn synthetic_eulerseq_mixed() {
+    check("eulerseq_mixed", dir().join("synthetic/eulerseq_mixed.xml"));
+}
+
+/// Nested default classes from an `<include>`d file, `childclass` and `class`, inertia from geoms
+/// (density, mass, a geom outside `inertiagrouprange`), a welded body, `fullinertia`, three joints
+/// in one body.
+#[test]
+fn synthetic_defaults_inertia() {
+    check("defaults_inertia", dir().join("synthetic/defaults_inertia.xml"));
+}
+
+/// The Allegro hand has no `<inertial>`: every body's inertia comes from its geoms, the visual
+/// meshes among them (group 2, inside `inertiagrouprange`), with MuJoCo's `legacy` mesh inertia.
+/// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
+///
+/// Not reached yet: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
+/// `qacc` to 7.5e-10 relative (bias 1.6e-11). The palm's mass, centre of mass and principal moments
+/// match MuJoCo's to 3e-14, so the gap is in another body; the suspect, unchecked, is MuJoCo's
+/// iterative eigen-decomposition (`mjuu_eig3`) of tiny finger inertias (1e-7 kg·m²).
+#[test]
+#[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10 (docs/mjcf.md)"]
+fn allegro_right_hand_inertia_from_meshes() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
+    assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
+    check("allegro_right", path);
+}
