@@ -321,11 +321,11 @@ impl Integration {
         let y_hi = if hi < self.h { rk4(self, &self.y, hi) } else { full };
         let mut stop = (euler_stop <= self.h).then_some(hi);
         if slip(&y_hi) <= 0.0 {
-            let (lo, _) = self.first_root(hi, |_, y, _| -slip(y));
+            let (lo, _) = self.first_root(hi, &y_hi, |_, y, _| -slip(y));
             stop = Some(lo);
         }
         let end = (self.event(&y_hi, self.p_z + hi) >= 0.0)
-            .then(|| self.first_root(hi, |s, y, h| s.event(y, s.p_z + h)))
+            .then(|| self.first_root(hi, &y_hi, |s, y, h| s.event(y, s.p_z + h)))
             .filter(|&(_, hi_end)| stop.is_none_or(|lo_stop| hi_end <= lo_stop));
         if let Some((_, hi)) = end {
             self.y = rk4(self, &self.y, hi);
@@ -360,12 +360,12 @@ impl Integration {
     }
 
     /// The bracket `(lo, hi)` of a root of `f(state after a step s)`, with `f < 0` at `s = 0` and
-    /// `f ≥ 0` at `s = h`: `f < 0` at `lo`, `f ≥ 0` at `hi`, `hi − lo ≤ 10⁻¹⁴ h`. Regula falsi with
+    /// `f ≥ 0` at `s = h` (`y_h`: the state after the step `h`, already at hand): `f < 0` at `lo`, `f ≥ 0` at `hi`, `hi − lo ≤ 10⁻¹⁴ h`. Regula falsi with
     /// the Illinois rule (the retained end's value halved when the same end is kept twice), which
     /// converges superlinearly on a smooth `f` and never leaves the bracket.
-    fn first_root(&self, h: f64, f: impl Fn(&Self, &[f64; 6], f64) -> f64) -> (f64, f64) {
+    fn first_root(&self, h: f64, y_h: &[f64; 6], f: impl Fn(&Self, &[f64; 6], f64) -> f64) -> (f64, f64) {
         let (mut a, mut fa) = (0.0, f(self, &self.y, 0.0));
-        let (mut b, mut fb) = (h, f(self, &rk4(self, &self.y, h), h));
+        let (mut b, mut fb) = (h, f(self, y_h, h));
         if !(fa < 0.0) {
             // the event is already at the start (Stronge's law with e = 0 ends restitution at once)
             return (0.0, 0.0);

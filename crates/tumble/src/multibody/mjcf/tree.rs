@@ -11,6 +11,7 @@ use crate::math::{DMat3, DVec3};
 use crate::multibody::joint::JointDynamics;
 use crate::multibody::model::{placed_inertia, GeometryShape};
 use crate::multibody::spatial::RigidInertia;
+use std::collections::HashMap;
 
 impl<'a> Reader<'a> {
     /// The children of a body (or the world, `body = None`), inside `frame` (their placement in the
@@ -90,16 +91,7 @@ impl<'a> Reader<'a> {
         v.refuse_unless("gravcomp", all_zero, "gravity compensation (gravcomp)")?;
         let index = self.bodies.len();
         let id = index as u32 + 1;
-        let name = match el.attr("name") {
-            Some(a) => a.value.clone(),
-            None => format!("body{id}"),
-        };
-        if let Some(first) = self.body_names.insert(name.clone(), el.pos.line) {
-            return Err(el.attr_error(
-                "name",
-                MjcfErrorKind::Invalid(format!("repeated body name '{name}' (first at line {first})")),
-            ));
-        }
+        let name = unique_name(&mut self.body_names, el, "body", id as usize)?;
         let in_parent = frame.then(&pose(&v, &self.compiler)?);
         let cc_own = el.attr("childclass").map(|a| a.value.clone());
         let cc = cc_own.as_deref().or(childclass).map(str::to_string);
@@ -179,17 +171,7 @@ impl<'a> Reader<'a> {
 
     fn joint_name(&mut self, el: &El) -> Result<String, MjcfError> {
         let id = self.joint_names.len();
-        let name = match el.attr("name") {
-            Some(a) => a.value.clone(),
-            None => format!("joint{id}"),
-        };
-        if let Some(first) = self.joint_names.insert(name.clone(), el.pos.line) {
-            return Err(el.attr_error(
-                "name",
-                MjcfErrorKind::Invalid(format!("repeated joint name '{name}' (first at line {first})")),
-            ));
-        }
-        Ok(name)
+        unique_name(&mut self.joint_names, el, "joint", id)
     }
 
     fn joint(&mut self, el: &'a El, childclass: Option<&str>) -> Result<JointRec<'a>, MjcfError> {
@@ -520,4 +502,20 @@ impl<'a> Reader<'a> {
         }
         Ok(total)
     }
+}
+
+/// `el`'s `name` (else `{kind}{id}`, MuJoCo's unnamed elements), registered in `names` with its
+/// line; a name already there is an error naming the first one's line.
+fn unique_name(names: &mut HashMap<String, u32>, el: &El, kind: &str, id: usize) -> Result<String, MjcfError> {
+    let name = match el.attr("name") {
+        Some(a) => a.value.clone(),
+        None => format!("{kind}{id}"),
+    };
+    if let Some(first) = names.insert(name.clone(), el.pos.line) {
+        return Err(el.attr_error(
+            "name",
+            MjcfErrorKind::Invalid(format!("repeated {kind} name '{name}' (first at line {first})")),
+        ));
+    }
+    Ok(name)
 }
