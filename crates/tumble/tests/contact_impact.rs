@@ -265,3 +265,51 @@ fn fast_sphere_does_not_pass_through_a_thin_wall() {
         assert!(w.bodies[1].state.velocity.x < 0.0, "angle {angle}: the ball bounced back");
     }
 }
+
+#[derive(serde::Deserialize)]
+struct CurvedSlide {
+    kind: String,
+    k: [f64; 9],
+    u0: [f64; 3],
+    mu: f64,
+    e: f64,
+    p: [f64; 3],
+}
+
+/// Where the slip direction turns during the impact there is no closed form: the impulse should
+/// agree with an independent integration (scipy's DOP853 at rtol 1e-13, events located, written by
+/// `tools/impact_reference.py`) of 80 quadruped feet landing as the trotting scenes meet them and
+/// 54 random collisions, to 1e-9 of the impulse.
+///
+/// Known to fail (2026-12-03): the fixed-step RK4 of the slide misses the slip's stop where the
+/// path curves into it: the landings agree to 5e-7, four random collisions only to 5e-4, 7e-4,
+/// 9e-3 and 7e-2 (the slip passes the stop, then RK4's stages straddle the origin and hold a
+/// spurious slip; `cargo test --release -p tumble --test contact_impact -- --ignored` prints the
+/// worst case). Limiting the turn of the friction direction per step to 0.02 rad brings every case
+/// within 1e-6 but doubles the collisions' cost on the trotting quadrupeds; the fix must come with
+/// a cheaper approach to the stop (see docs/contact.md).
+#[test]
+#[ignore = "known: the fixed-step slide misses curved stops (errors up to 7e-2); see the comment"]
+fn a_curved_slide_agrees_with_an_independent_integration() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/impact/curved_slides.json");
+    let cases: Vec<CurvedSlide> = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert!(cases.len() >= 100, "{} cases", cases.len());
+    let (t1, t2) = tumble::contact::impact::tangent_basis(DVec3::Z);
+    let frame = DMat3::from_cols(t1, t2, DVec3::Z);
+    let mut worst = (0.0, String::new());
+    for (i, c) in cases.iter().enumerate() {
+        // rows in the fixture; glam takes columns
+        let k = DMat3::from_cols_array(&c.k).transpose();
+        let k_world = frame * k * frame.transpose();
+        let u_world = frame * DVec3::from_array(c.u0);
+        let hit = collide(k_world, DVec3::Z, u_world, c.mu, c.e, RestitutionLaw::Stronge).unwrap();
+        let p = frame.transpose() * hit.impulse_world;
+        let exact = DVec3::from_array(c.p);
+        let err = (p - exact).length() / exact.length();
+        if err > worst.0 {
+            worst = (err, format!("case {i} ({}): impulse {p:?}, reference {exact:?}", c.kind));
+        }
+    }
+    eprintln!("largest relative error {:.2e}: {}", worst.0, worst.1);
+    assert!(worst.0 <= 1e-9, "relative error {:.2e} in {}", worst.0, worst.1);
+}
