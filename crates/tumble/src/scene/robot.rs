@@ -18,9 +18,10 @@
 //! `lock`; a massless moving subtree is an error whose hint names `lock`.
 
 use super::error::{names_hint, nearest, num, nums, SceneError, Source};
-use super::schema::{DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
+use super::schema::{CtrlDoc, DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::math::{DMat3, DQuat, DVec3};
+use crate::multibody::mjcf::{load_mjcf, Mjcf, MjcfOptions};
 use crate::multibody::spatial::Xform;
 use crate::multibody::{
     kept_coordinates, load_urdf, reduced_model, Control, FrameOrigin, JointKind, LockError, Massless, ModelError,
@@ -74,11 +75,13 @@ impl RobotReader<'_, '_> {
 
     fn read(&mut self, doc: &RobotDoc, taken: &mut Taken, gravity: DVec3) -> Result<Robot, SceneError> {
         let name = self.name(doc, taken)?;
-        let floating = match &doc.base {
-            None => false,
-            Some(l) if l.value == "fixed" => false,
-            Some(l) if l.value == "floating" => true,
-            Some(l) => {
+        let mjcf = self.mjcf(doc)?;
+        let floating = match (&mjcf, &doc.base) {
+            (Some(m), _) => m.model.bodies.first().is_some_and(|b| b.joint.kind == JointKind::Floating),
+            (None, None) => false,
+            (None, Some(l)) if l.value == "fixed" => false,
+            (None, Some(l)) if l.value == "floating" => true,
+            (None, Some(l)) => {
                 let e = self
                     .err("base", l, "unknown base (expected \"fixed\" or \"floating\")")
                     .got(format!("\"{}\"", l.value));
@@ -88,12 +91,30 @@ impl RobotReader<'_, '_> {
                 });
             }
         };
-        let mut model = self.model(doc, floating)?;
+        let mut model = match &mjcf {
+            Some(m) => m.model.clone(),
+            None => self.model(doc, floating)?,
+        };
         model.gravity = gravity;
         let position = self.position(doc)?;
         let orientation = self.orientation(doc)?;
         let mut q = model.neutral_configuration();
-        if floating {
+        if let Some(m) = &mjcf {
+            // MuJoCo's qpos0: a free root where the file puts its body, hinges and slides at `ref`
+            // (`q = 0`); `position` and `orientation` move a free root, or place a fixed one
+            let qpos0 = m.layout.qpos0();
+            q = m.layout.state_from_mujoco(&qpos0, &vec![0.0; model.nv()]).map_err(|e| self.mjcf_err(doc, e))?.0;
+            if floating {
+                if doc.position.is_some() {
+                    q[0..3].copy_from_slice(&position.to_array());
+                }
+                if doc.orientation.is_some() {
+                    q[3..7].copy_from_slice(&[orientation.w, orientation.x, orientation.y, orientation.z]);
+                }
+            } else {
+                place_fixed_base(&mut model, DMat3::from_quat(orientation), position);
+            }
+        } else if floating {
             // the base pose is the free-flyer's coordinates
             q[0..3].copy_from_slice(&position.to_array());
             q[3..7].copy_from_slice(&[orientation.w, orientation.x, orientation.y, orientation.z]);
@@ -138,6 +159,16 @@ impl RobotReader<'_, '_> {
         let joint_limits = doc.joint_limits.as_ref().is_none_or(|b| b.value);
         if doc.effort_limits.as_ref().is_none_or(|b| b.value) {
             control.set_effort_limits(&model);
+        }
+        match &mjcf {
+            Some(m) => self.actuators(doc, m, &model, &mut control)?,
+            None => {
+                if let Some(c) = &doc.ctrl {
+                    return Err(self
+                        .err("ctrl", c, "drives the actuators of an MJCF file: this robot has none")
+                        .hint("a URDF robot is driven by `torque` and `[robot.pd]`"));
+                }
+            }
         }
         if joint_limits {
             self.warn_outside_limits(doc, &model, &q);
@@ -229,11 +260,132 @@ impl RobotReader<'_, '_> {
         Ok(name.value.clone())
     }
 
+    /// `mjcf`: the MJCF file read (`None` for a URDF robot). The file decides the base (a free
+    /// root body floats); the URDF-only keys are refused beside it.
+    fn mjcf(&mut self, doc: &RobotDoc) -> Result<Option<Mjcf>, SceneError> {
+        let Some(file) = &doc.mjcf else { return Ok(None) };
+        if let Some(urdf) = &doc.urdf {
+            return Err(self
+                .err("urdf", urdf, "a robot is read from one file: both `urdf` and `mjcf` are given")
+                .hint("keep one of them"));
+        }
+        let refused: [(&str, Option<Option<&std::ops::Range<usize>>>, &str); 4] = [
+            ("base", doc.base.as_ref().map(|l| l.span.as_ref()), "the MJCF file decides the base: a root body with a free joint floats, any other is fixed"),
+            ("balance_inertia", doc.balance_inertia.as_ref().map(|l| l.span.as_ref()), "a URDF option: the MJCF reader takes the file's inertias as MuJoCo does"),
+            ("package_paths", doc.package_paths.as_ref().map(|l| l.span.as_ref()), "a URDF option: an MJCF file finds its meshes by `meshdir`/`assetdir`"),
+            ("lock", doc.lock.as_ref().map(|l| l.span.as_ref()), "not yet for an MJCF robot"),
+        ];
+        for (key, span, why) in refused {
+            if let Some(span) = span {
+                return Err(self.src.error(span, self.at(key), format!("not used with `mjcf`: {why}")));
+            }
+        }
+        let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
+        let path = scene_dir.join(&file.value);
+        let mjcf = load_mjcf(&path, MjcfOptions::default()).map_err(|e| self.err("mjcf", file, e.to_string()))?;
+        for w in &mjcf.model.warnings {
+            let text = format!("{}: {w}", path.display());
+            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("mjcf"), &text));
+        }
+        Ok(Some(mjcf))
+    }
+
+    fn mjcf_err(&self, doc: &RobotDoc, e: impl std::fmt::Display) -> SceneError {
+        let span = doc.mjcf.as_ref().and_then(|l| l.span.as_ref()).or(self.span);
+        self.src.error(span, self.at("mjcf"), e.to_string())
+    }
+
+    /// The MJCF actuators under constant controls (`ctrl`, clamped to each `ctrlrange`), as the
+    /// joint forces they give: for an actuator on joint `j` with gear `g`, gain `k`, bias
+    /// `(b₀, b₁, b₂)`, MuJoCo's force is `f = k u + b₀ + b₁ l + b₂ l̇` with the length `l = g qpos =
+    /// g (q + ref)` and `l̇ = g v`, and the joint takes `τ = g f`; so a constant `g (k u + b₀ + b₁ g
+    /// ref)`, a stiffness `−g² b₁` and a damping `−g² b₂` (a `position` actuator is a PD to `u`, a
+    /// `velocity` one a damper to `u`, a `motor` a constant force). A symmetric `forcerange` is
+    /// the joint's effort limit `|g| f_max` when the actuator is the only force commanded on it.
+    fn actuators(&self, doc: &RobotDoc, m: &Mjcf, model: &MultibodyModel, control: &mut Control) -> Result<(), SceneError> {
+        let mut ctrl = vec![0.0; m.actuators.len()];
+        let names: Vec<&str> = m.actuators.iter().map(|a| a.name.as_str()).collect();
+        if let Some(c) = &doc.ctrl {
+            match &c.value {
+                CtrlDoc::All(x) => {
+                    if !x.is_finite() {
+                        return Err(self.err("ctrl", c, "must be finite").got(x.to_string()));
+                    }
+                    ctrl.fill(*x);
+                }
+                CtrlDoc::Actuators(JointTable(entries)) => {
+                    for (name, x) in entries {
+                        let key = format!("ctrl.{name}");
+                        let Some(k) = names.iter().position(|n| n == name) else {
+                            let e = self.err(&key, x, format!("names no actuator of `{}`", doc.mjcf.as_ref().map_or("", |f| f.value.as_str())));
+                            let list = names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+                            return Err(match nearest(name, &names) {
+                                Some(best) => e.hint(format!("did you mean `{best}`? (actuators: {list})")),
+                                None => e.hint(if names.is_empty() { "the file has no actuator".to_string() } else { format!("actuators: {list}") }),
+                            });
+                        };
+                        if !x.value.is_finite() {
+                            return Err(self.err(&key, x, "must be finite").got(x.value.to_string()));
+                        }
+                        ctrl[k] = x.value;
+                    }
+                }
+            }
+        }
+        let commanded: Vec<bool> =
+            (0..model.nv()).map(|i| control.tau[i] != 0.0 || control.kp[i] != 0.0 || control.kd[i] != 0.0).collect();
+        let mut driven = vec![0usize; model.nv()];
+        for a in &m.actuators {
+            let j = model.joint_index(&a.joint).ok_or_else(|| self.mjcf_err(doc, format!("actuator `{}`: joint `{}` is not in the model", a.name, a.joint)))?;
+            let joint = &model.bodies[j].joint;
+            if joint.kind.nv() != 1 {
+                return Err(self.mjcf_err(doc, format!("actuator `{}`: drives the {} joint `{}`; tumble drives hinges and slides only", a.name, joint.kind.name(), a.joint)));
+            }
+            driven[joint.v_index] += 1;
+        }
+        for (a, &u) in m.actuators.iter().zip(&ctrl) {
+            let j = model.joint_index(&a.joint).expect("checked above");
+            let vi = model.bodies[j].joint.v_index;
+            let reference = m.layout.joints.iter().find(|lj| lj.name == a.joint).map_or(0.0, |lj| lj.reference);
+            let u = match a.ctrl_range {
+                Some((lo, hi)) => u.clamp(lo, hi),
+                None => u,
+            };
+            let g = a.gear;
+            let [b0, b1, b2] = a.bias;
+            let (stiffness, damping) = (-g * g * b1, -g * g * b2);
+            if stiffness < 0.0 || damping < 0.0 {
+                return Err(self.mjcf_err(doc, format!(
+                    "actuator `{}`: a bias that pushes away from its set point (b₁ = {}, b₂ = {}) is not supported",
+                    a.name, num(b1), num(b2)
+                )));
+            }
+            if commanded[vi] {
+                return Err(self.mjcf_err(doc, format!(
+                    "actuator `{}` drives joint `{}`, which `torque` or `[robot.pd]` drives too", a.name, a.joint
+                )).hint("drive a joint by its actuator (`ctrl`) or by the scene's `torque`/`pd`, not both"));
+            }
+            control.tau[vi] += g * (a.gain * u + b0 + b1 * g * reference);
+            control.kp[vi] += stiffness;
+            control.kd[vi] += damping;
+            if let Some((lo, hi)) = a.force_range {
+                if driven[vi] != 1 || lo != -hi {
+                    return Err(self.mjcf_err(doc, format!(
+                        "actuator `{}`: forcerange [{}, {}] is supported only symmetric and for a joint's only actuator",
+                        a.name, num(lo), num(hi)
+                    )));
+                }
+                control.effort[vi] = control.effort[vi].min(g.abs() * hi);
+            }
+        }
+        Ok(())
+    }
+
     fn model(&mut self, doc: &RobotDoc, floating: bool) -> Result<MultibodyModel, SceneError> {
         let Some(urdf) = &doc.urdf else {
             return Err(self
                 .src
-                .error(self.span, self.at("urdf"), "missing: a robot needs its URDF file")
+                .error(self.span, self.at("urdf"), "missing: a robot needs its URDF (or MJCF) file")
                 .hint("e.g. `urdf = \"robots/arm.urdf\"` (relative to the scene file)"));
         };
         let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
@@ -675,12 +827,16 @@ pub(crate) fn robot_collisions(
             }
             continue;
         }
-        let Some(urdf) = &doc.urdf else { continue };
+        let (key, urdf) = match (&doc.urdf, &doc.mjcf) {
+            (Some(f), _) => ("urdf", f),
+            (None, Some(f)) => ("mjcf", f),
+            (None, None) => continue,
+        };
         let file = Path::new(src.origin).parent().unwrap_or(Path::new("")).join(&urdf.value);
         let shapes =
             crate::multibody::link_shapes::collision_shapes(&world.robots[i].model, &file.display().to_string())
                 .map_err(|e| {
-                    src.error(urdf.span.as_ref(), format!("{path}.urdf"), e.to_string()).hint(
+                    src.error(urdf.span.as_ref(), format!("{path}.{key}"), e.to_string()).hint(
                         "`collision = false` loads the robot without its collision geometry (it then touches nothing)",
                     )
                 })?;

@@ -303,6 +303,11 @@ pub struct RobotDoc {
     pub name: Option<Loc<String>>,
     /// URDF file, relative to the scene file's directory.
     pub urdf: Option<Loc<String>>,
+    /// MJCF file (MuJoCo's XML), relative to the scene file's directory; instead of `urdf`.
+    pub mjcf: Option<Loc<String>>,
+    /// The controls of the MJCF file's actuators, held over the run: one number for every
+    /// actuator, or a table by actuator name (the others 0, as MuJoCo starts them).
+    pub ctrl: Option<Loc<CtrlDoc>>,
     /// `"fixed"` (default) or `"floating"`.
     pub base: Option<Loc<String>>,
     /// Root link frame's origin, world frame (m).
@@ -406,6 +411,40 @@ impl<'de> Deserialize<'de> for JointValue {
                     out.push(x);
                 }
                 Ok(JointValue(out))
+            }
+        }
+        deserializer.deserialize_any(V)
+    }
+}
+
+/// `ctrl = 0.5` or `ctrl = { actuator = 0.5, ... }`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CtrlDoc {
+    /// The same control for every actuator.
+    All(f64),
+    /// By actuator name (others: 0).
+    Actuators(JointTable<Loc<f64>>),
+}
+
+impl<'de> Deserialize<'de> for CtrlDoc {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = CtrlDoc;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or a table of actuator names")
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<CtrlDoc, E> {
+                Ok(CtrlDoc::All(x))
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<CtrlDoc, E> {
+                Ok(CtrlDoc::All(x as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<CtrlDoc, E> {
+                Ok(CtrlDoc::All(x as f64))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<CtrlDoc, A::Error> {
+                JointTable::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(CtrlDoc::Actuators)
             }
         }
         deserializer.deserialize_any(V)

@@ -1,0 +1,152 @@
+//! MJCF robots in scenes: `[[robot]] mjcf = "X.xml"` with its actuators driven by `ctrl`.
+//!
+//! - a pendulum held by a `position` actuator settles where the servo balances gravity,
+//!   `k_p (u − qpos) = m g l sin q` (with the joint's `ref`: `qpos = q + ref`), and one driven by a
+//!   `motor` where `g u = m g l sin q`; `ctrlrange` clamps the control;
+//! - the Gymnasium Ant under zero control, let go above the floor, comes to rest on it;
+//! - bad entries name the file, line and field.
+
+use std::path::Path;
+use tumble::scene::{self, Scene, SceneError};
+
+/// A pendulum: mass 2 kg, centre of mass 0.5 m below the pivot, hinge about x with `ref`, a
+/// position servo (`kp` 50) and a motor (gear 2) on it, joint damping to settle it.
+fn pendulum_xml(reference: f64) -> String {
+    format!(
+        r#"<mujoco model="servo">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="bob">
+      <joint name="pivot" type="hinge" axis="1 0 0" damping="10" ref="{reference}"/>
+      <inertial pos="0 0 -0.5" mass="2" diaginertia="0.02 0.02 0.01"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <position name="servo" joint="pivot" kp="50" ctrlrange="-1 1"/>
+    <motor name="push" joint="pivot" gear="2"/>
+  </actuator>
+</mujoco>"#
+    )
+}
+
+fn load(files: &[(&str, &str)], robot: &str, duration: f64) -> (tempfile::TempDir, Result<Scene, SceneError>) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    let text = format!("version = 1\n[world]\ndt = 1e-3\nduration = {duration}\n[[robot]]\nname = \"p\"\n{robot}\n");
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let loaded = scene::load(&path);
+    (dir, loaded)
+}
+
+fn settle(robot: &str, reference: f64) -> f64 {
+    let xml = pendulum_xml(reference);
+    let (_dir, loaded) = load(&[("servo.xml", &xml)], robot, 6.0);
+    let mut scene = loaded.unwrap();
+    for _ in 0..scene.world.config.step_count() {
+        scene.world.step().unwrap();
+    }
+    let (q, v) = (scene.world.robots[0].q()[0], scene.world.robots[0].v()[0]);
+    assert!(v.abs() < 1e-8, "still moving: v = {v}");
+    q
+}
+
+#[test]
+fn a_position_servo_settles_where_it_balances_gravity() {
+    let mgl = 2.0 * 9.81 * 0.5;
+    for reference in [0.0, 0.2] {
+        let q = settle("mjcf = \"servo.xml\"\nctrl = { servo = 0.6 }", reference);
+        // k_p (u − (q + ref)) = m g l sin q
+        let residual = 50.0 * (0.6 - (q + reference)) - mgl * q.sin();
+        eprintln!("servo to 0.6 with ref {reference}: q = {q}, residual {residual:e} N·m");
+        assert!(q > 0.05 && q < 0.6 - reference, "q = {q}");
+        assert!(residual.abs() < 1e-7, "residual {residual}");
+    }
+    // the control is clamped to ctrlrange [−1, 1]
+    let q = settle("mjcf = \"servo.xml\"\nctrl = { servo = 3.0 }", 0.0);
+    let residual = 50.0 * (1.0 - q) - mgl * q.sin();
+    assert!(residual.abs() < 1e-7, "clamped to 1: q = {q}, residual {residual}");
+}
+
+#[test]
+fn a_motor_holds_a_constant_torque_and_unnamed_actuators_start_at_zero() {
+    // the servo at u = 0 pulls to qpos = 0; the motor's g u = 0.6 N·m against it and gravity:
+    // 0.6 = k_p q + m g l sin q
+    let q = settle("mjcf = \"servo.xml\"\nctrl = { push = 0.3 }", 0.0);
+    let residual = 0.6 - 50.0 * q - 2.0 * 9.81 * 0.5 * q.sin();
+    eprintln!("motor 0.3 (gear 2) against the servo at 0: q = {q}, residual {residual:e}");
+    assert!(q > 0.0 && residual.abs() < 1e-7, "q = {q}, residual {residual}");
+    // one number drives every actuator: k_p (u − q) + g u = m g l sin q
+    let q = settle("mjcf = \"servo.xml\"\nctrl = 0.5", 0.0);
+    let residual = 50.0 * (0.5 - q) + 2.0 * 0.5 - 2.0 * 9.81 * 0.5 * q.sin();
+    assert!(residual.abs() < 1e-7, "q = {q}, residual {residual}");
+}
+
+#[test]
+fn the_gymnasium_ant_comes_to_rest_on_the_floor() {
+    let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/ant.xml");
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "version = 1\n[world]\ndt = 1e-3\nduration = 3.0\nintegrator = \"semi_implicit_euler\"\n\
+         [[body]]\nname = \"ground\"\nshape = {{ type = \"plane\" }}\nfixed = true\n\
+         [[robot]]\nname = \"ant\"\nmjcf = {:?}\nposition = [0.0, 0.0, 0.8]\n",
+        ant.display().to_string()
+    );
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let mut scene = scene::load(&path).unwrap();
+    let steps = scene.world.config.step_count();
+    for _ in 0..steps {
+        scene.world.step().unwrap();
+    }
+    let robot = &scene.world.robots[0];
+    let (q, v) = (robot.q(), robot.v());
+    assert!(q.iter().chain(v).all(|x| x.is_finite()));
+    let speed = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // the lowest point of the ant's collision geometry
+    let lowest = scene
+        .world
+        .contacts()
+        .links
+        .contacts()
+        .iter()
+        .map(|c| c.gap)
+        .fold(f64::INFINITY, f64::min);
+    eprintln!("ant after 3 s: torso z = {:.4} m, |v| = {speed:.2e}, deepest gap {lowest:.2e} m", q[2]);
+    assert!(q[2] > 0.1 && q[2] < 0.8, "torso height {}", q[2]);
+    assert!(speed < 1e-2, "|v| = {speed}");
+    assert!(lowest > -2e-3, "penetration {lowest}");
+}
+
+fn e_line() -> String {
+    error("mjcf = \"servo.xml\"\nctrl = { sevro = 1.0 }")
+}
+
+fn error(robot: &str) -> String {
+    let xml = pendulum_xml(0.0);
+    let (_dir, loaded) = load(&[("servo.xml", &xml), ("arm.urdf", "<robot name=\"a\"><link name=\"l\"/></robot>")], robot, 1.0);
+    match loaded {
+        Ok(_) => panic!("accepted: {robot}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_mjcf_robot_entries_name_the_field() {
+    let e = error("mjcf = \"servo.xml\"\nurdf = \"arm.urdf\"");
+    assert!(e.contains("robot[0].urdf") && e.contains("both"), "{e}");
+    let e = error("mjcf = \"servo.xml\"\nbase = \"floating\"");
+    assert!(e.contains("robot[0].base") && e.contains("MJCF file decides the base"), "{e}");
+    let e = error("mjcf = \"servo.xml\"\nctrl = { sevro = 1.0 }");
+    assert!(e.contains("robot[0].ctrl.sevro") && e.contains("did you mean `servo`"), "{e}");
+    let e = error("urdf = \"arm.urdf\"\nctrl = 1.0");
+    assert!(e.contains("robot[0].ctrl") && e.contains("MJCF"), "{e}");
+    let e = error("mjcf = \"servo.xml\"\npd = { pivot = { target = 0.1, kp = 5.0 } }");
+    assert!(e.contains("drives joint `pivot`"), "{e}");
+    let e = error("mjcf = \"missing.xml\"");
+    assert!(e.contains("robot[0].mjcf") && e.contains("missing.xml"), "{e}");
+    // the scene file's line and column (line 8: the entry's second line)
+    assert!(e_line().contains("scene.toml:8:18"), "{}", e_line());
+}
