@@ -136,3 +136,42 @@ fn urdf_flags_are_refused_on_mjcf_files_and_frictionloss_needs_the_flag() {
     assert_eq!((layout["nq"].as_u64(), layout["nv"].as_u64()), (Some(19), Some(18)));
     assert!(err.contains("frictionloss") && err.contains("dropped"), "{err}");
 }
+
+#[test]
+fn run_simulates_an_mjcf_world_with_its_options_and_floor() {
+    let dir = tempfile::tempdir().unwrap();
+    let ant = mjcf().join("gymnasium/ant.xml");
+    let out = dir.path().join("ant.csv");
+    let summary = dir.path().join("summary.json");
+    let output = tumble(dir.path())
+        .args(["run", ant.to_str().unwrap(), "--duration", "2", "--quiet"])
+        .arg("--out")
+        .arg(&out)
+        .arg("--summary")
+        .arg(&summary)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{err}");
+    let s: Value = serde_json::from_str(&fs::read_to_string(&summary).unwrap()).unwrap();
+    // ant.xml's <option timestep="0.01" integrator="RK4">, its free root, its floor plane
+    assert_eq!(s["robots"][0]["base"], "floating", "{s}");
+    assert_eq!(s["robots"][0]["nv"].as_u64(), Some(14));
+    let csv = fs::read_to_string(&out).unwrap();
+    assert_eq!(csv.lines().filter(|l| l.contains(",ant/torso,")).count(), 201, "2 s in steps of 0.01 s");
+    // the torso has come down onto its legs on the floor, not through it
+    let last = csv.lines().rev().find(|l| l.contains(",ant/torso,")).unwrap();
+    let z: f64 = last.split(',').nth(4).unwrap().parse().unwrap();
+    assert!(z > 0.2 && z < 0.75, "torso z = {z}");
+}
+
+#[test]
+fn run_refuses_a_broken_mjcf_file_with_its_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.xml");
+    fs::write(&bad, "<mujoco>\n  <worldbody>\n    <body><joint type=\"hinge\" axis=\"0 0 1\"/><geom type=\"hfield\"/></body>\n  </worldbody>\n</mujoco>\n").unwrap();
+    let output = tumble(dir.path()).args(["run", bad.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{err}");
+    assert!(err.contains("bad.xml:3:"), "{err}");
+}

@@ -283,9 +283,9 @@ impl RobotReader<'_, '_> {
         let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
         let path = scene_dir.join(&file.value);
         let mjcf = load_mjcf(&path, MjcfOptions::default()).map_err(|e| self.err("mjcf", file, e.to_string()))?;
+        // (the reader's remarks name the MJCF file's own line and column)
         for w in &mjcf.model.warnings {
-            let text = format!("{}: {w}", path.display());
-            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("mjcf"), &text));
+            self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("mjcf"), w));
         }
         Ok(Some(mjcf))
     }

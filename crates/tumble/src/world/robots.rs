@@ -101,7 +101,9 @@ impl Robot {
     ) -> Result<Self, LengthError> {
         let name = name.into();
         let sim = Simulator::new(&model, q.clone(), v.clone())?;
-        let floating = model.bodies.first().is_some_and(|b| b.joint.name == "root_joint" && b.parent.is_none())
+        // a free root joint, whatever its name (`root_joint` from a URDF's `base = "floating"`, the
+        // file's own name from MJCF)
+        let floating = model.bodies.first().is_some_and(|b| b.parent.is_none())
             && matches!(model.bodies[0].joint.kind, crate::multibody::JointKind::Floating);
         let moving_frames: Vec<usize> =
             model.frames.iter().enumerate().filter(|(_, f)| f.body.is_some()).map(|(i, _)| i).collect();

@@ -157,8 +157,8 @@ pub(super) fn build(root: &El, dir: &Path, options: MjcfOptions) -> Result<Mjcf,
     let mut model = model;
     if !actuators.is_empty() {
         model.warnings.push(format!(
-            "{} actuators read and recorded; tumble does not apply MJCF actuators yet (the dynamics here are those \
-             of zero actuator force)",
+            "{} actuators read: a scene's `[[robot]] mjcf` drives them by `ctrl`; the model alone (`tumble model`, \
+             `tumble dynamics`) has the dynamics of zero actuator force",
             actuators.len()
         ));
     }

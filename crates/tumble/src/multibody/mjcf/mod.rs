@@ -154,7 +154,7 @@ pub struct MjcfOption {
     pub integrator: MjcfIntegrator,
 }
 
-/// An actuator as read (recorded; tumble does not drive MJCF actuators yet): force
+/// An actuator as read (scenes drive it under a constant `ctrl`, `scene::robot`): force
 /// `gear · (gain · ctrl + bias₀ + bias₁ q + bias₂ q̇)` on its joint, with MuJoCo's `motor`,
 /// `position` (`gain = kp`, `bias = [0, −kp, −kv]`), `velocity` (`gain = kv`, `bias = [0, 0, −kv]`)
 /// and `general` (fixed gain, affine or no bias).
