@@ -158,6 +158,28 @@ impl Model {
         Self::build(text, Format::Toml, origin)
     }
 
+    /// A MuJoCo MJCF file as a whole world, as `tumble run X.xml` reads it: the file's `<option>`
+    /// (`timestep` as `dt`, `gravity`, `integrator`), each plane of its worldbody a fixed plane,
+    /// and the tree as one robot (its name: the `<mujoco model>`) at MuJoCo's `qpos0`, with its
+    /// actuators at `ctrl = 0` (`World.set_ctrl` drives them).
+    #[staticmethod]
+    fn from_mjcf(path: std::path::PathBuf) -> PyResult<Self> {
+        if !path.is_file() {
+            return Err(bad(format!("{}: cannot read the MJCF file: no such file", path.display())));
+        }
+        let absolute = std::path::absolute(&path).unwrap_or(path.clone());
+        let (text, _) = scene::mjcf_world_text(&absolute).map_err(|e| bad(e.to_string()))?;
+        Self::build(text, Format::Json, absolute.display().to_string())
+    }
+
+    /// The names of a robot's MJCF actuators, in the order of `World.set_ctrl`'s `ctrl` (empty for
+    /// a URDF robot).
+    #[pyo3(signature = (robot = None))]
+    fn actuator_names(&self, robot: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+        let r = self.robot_index(robot)?;
+        Ok(self.world.robots[r].actuators.iter().map(|a| a.name.clone()).collect())
+    }
+
     /// Rebuilds a model from `__reduce__`'s arguments.
     #[classmethod]
     fn _from_pickle(_cls: &Bound<'_, PyType>, text: String, format: &str, origin: String) -> PyResult<Self> {

@@ -166,6 +166,25 @@ impl World {
         Ok(())
     }
 
+    /// Controls of a robot's MJCF actuators, held until changed: `ctrl` (nu_actuators,) in the
+    /// order of `Model.actuator_names`, each clamped to its `ctrlrange`. An actuator with gear `g`
+    /// and gain `k` adds `g k u` to its joint's force (its bias acts at any `ctrl`); like
+    /// `set_torque`, this replaces the joint forces that `set_torque` or an earlier `set_ctrl` gave.
+    fn set_ctrl(&mut self, robot: &Bound<'_, PyAny>, ctrl: &Bound<'_, PyAny>) -> PyResult<()> {
+        let r = self.robot(Some(robot))?;
+        let model = self.model.get();
+        let info = &model.robots[r];
+        let n = self.world.robots[r].actuators.len();
+        if n == 0 {
+            return Err(crate::bad(format!("robot `{}` has no MJCF actuator: drive it by set_torque or set_pd_target", info.name)));
+        }
+        let ctrl = finite_vector(ctrl, "ctrl", n, "(nu_actuators,) controls")?;
+        let mut extra = vec![0.0; info.nv];
+        self.world.robots[r].ctrl_torque(&ctrl, &mut extra).map_err(|e| crate::bad(e.to_string()))?;
+        apply_torque(&mut self.world, &info.base_tau, r, &extra);
+        Ok(())
+    }
+
     /// PD targets of a robot: `τ += kp (q* − q) + kd (v* − v)` on its one-coordinate joints.
     /// `q_target` (nq,); `kp`, `kd` (nv,) replace the scene's gains when given (a robot needs
     /// non-zero gains for the target to act); `v_target` (nv,) defaults to zero velocity.

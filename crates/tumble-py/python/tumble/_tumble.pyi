@@ -47,6 +47,12 @@ class Model:
     @staticmethod
     def from_urdf(path: _Path, floating: bool = False) -> Model:
         """A model of one robot read from a URDF file, at its neutral configuration, default world."""
+    @staticmethod
+    def from_mjcf(path: _Path) -> Model:
+        """A MuJoCo MJCF file as a whole world, as `tumble run X.xml` reads it: its option, worldbody
+        planes, and the tree as one robot at MuJoCo's qpos0, its actuators at ctrl = 0."""
+    def actuator_names(self, robot: _Robot | None = None) -> list[str]:
+        """Names of a robot's MJCF actuators, in the order of `World.set_ctrl` (empty for URDF)."""
     @classmethod
     def _from_pickle(cls, text: str, format: str, origin: str) -> Model: ...
     def __reduce__(self) -> tuple[Any, tuple[str, str, str]]: ...
@@ -118,6 +124,9 @@ class World:
     def set_torque(self, robot: _Robot, tau: _ArrayLike) -> None:
         """Joint forces of a robot (nv,), added to the scene's from the next step on (clamped with
         them to the URDF efforts unless the scene says `effort_limits = false`)."""
+    def set_ctrl(self, robot: _Robot, ctrl: _ArrayLike) -> None:
+        """Controls of a robot's MJCF actuators (one per actuator, clamped to each ctrlrange); each
+        adds gear × gain × ctrl to its joint's force, replacing what set_torque gave."""
     def set_pd_target(
         self,
         robot: _Robot,

@@ -126,6 +126,17 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// worldbody a fixed plane body (friction its first coefficient), and the tree as one robot
 /// (`[[robot]] mjcf`), its actuators at `ctrl = 0`.
 pub fn load_mjcf_world(path: &Path) -> Result<Scene, SceneError> {
+    let origin = path.display().to_string();
+    let (text, mut warnings) = mjcf_world_text(path)?;
+    let mut scene = from_str(&text, &origin, Format::Json)?;
+    warnings.append(&mut scene.warnings);
+    scene.warnings = warnings;
+    Ok(scene)
+}
+
+/// The scene of [`load_mjcf_world`] as JSON scene text (the MJCF file named by its absolute
+/// path), and the warnings of reading the file's options and worldbody.
+pub fn mjcf_world_text(path: &Path) -> Result<(String, Vec<String>), SceneError> {
     use crate::multibody::mjcf::{load_mjcf, MjcfIntegrator, MjcfOptions};
     use crate::multibody::{GeometryRole, GeometryShape};
     let origin = path.display().to_string();
@@ -182,10 +193,7 @@ pub fn load_mjcf_world(path: &Path) -> Result<Scene, SceneError> {
         "body": bodies,
         "robot": [{ "name": name, "mjcf": path.canonicalize().unwrap_or(path.to_path_buf()).display().to_string() }],
     });
-    let mut scene = from_str(&doc.to_string(), &origin, Format::Json)?;
-    warnings.append(&mut scene.warnings);
-    scene.warnings = warnings;
-    Ok(scene)
+    Ok((doc.to_string(), warnings))
 }
 
 fn too_large(origin: &str, format: Format, len: u64) -> SceneError {

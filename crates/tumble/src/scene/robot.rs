@@ -160,7 +160,7 @@ impl RobotReader<'_, '_> {
         if doc.effort_limits.as_ref().is_none_or(|b| b.value) {
             control.set_effort_limits(&model);
         }
-        match &mjcf {
+        let drives = match &mjcf {
             Some(m) => self.actuators(doc, m, &model, &mut control)?,
             None => {
                 if let Some(c) = &doc.ctrl {
@@ -168,8 +168,9 @@ impl RobotReader<'_, '_> {
                         .err("ctrl", c, "drives the actuators of an MJCF file: this robot has none")
                         .hint("a URDF robot is driven by `torque` and `[robot.pd]`"));
                 }
+                Vec::new()
             }
-        }
+        };
         if joint_limits {
             self.warn_outside_limits(doc, &model, &q);
         }
@@ -177,6 +178,7 @@ impl RobotReader<'_, '_> {
             Robot::new(name, model, control, q, v).map_err(|e| self.src.error(self.span, self.path, e.to_string()))?;
         robot.set_joint_limits(joint_limits);
         robot.material = self.material(doc)?;
+        robot.actuators = drives;
         Ok(robot)
     }
 
@@ -302,7 +304,13 @@ impl RobotReader<'_, '_> {
     /// ref)`, a stiffness `−g² b₁` and a damping `−g² b₂` (a `position` actuator is a PD to `u`, a
     /// `velocity` one a damper to `u`, a `motor` a constant force). A symmetric `forcerange` is
     /// the joint's effort limit `|g| f_max` when the actuator is the only force commanded on it.
-    fn actuators(&self, doc: &RobotDoc, m: &Mjcf, model: &MultibodyModel, control: &mut Control) -> Result<(), SceneError> {
+    fn actuators(
+        &self,
+        doc: &RobotDoc,
+        m: &Mjcf,
+        model: &MultibodyModel,
+        control: &mut Control,
+    ) -> Result<Vec<crate::world::ActuatorDrive>, SceneError> {
         let mut ctrl = vec![0.0; m.actuators.len()];
         let names: Vec<&str> = m.actuators.iter().map(|a| a.name.as_str()).collect();
         if let Some(c) = &doc.ctrl {
@@ -343,9 +351,17 @@ impl RobotReader<'_, '_> {
             }
             driven[joint.v_index] += 1;
         }
+        let mut drives = Vec::with_capacity(m.actuators.len());
         for (a, &u) in m.actuators.iter().zip(&ctrl) {
             let j = model.joint_index(&a.joint).expect("checked above");
             let vi = model.bodies[j].joint.v_index;
+            drives.push(crate::world::ActuatorDrive {
+                name: a.name.clone(),
+                v_index: vi,
+                torque_per_ctrl: a.gear * a.gain,
+                ctrl_range: a.ctrl_range,
+                ctrl: u,
+            });
             let reference = m.layout.joints.iter().find(|lj| lj.name == a.joint).map_or(0.0, |lj| lj.reference);
             let u = match a.ctrl_range {
                 Some((lo, hi)) => u.clamp(lo, hi),
@@ -378,7 +394,7 @@ impl RobotReader<'_, '_> {
                 control.effort[vi] = control.effort[vi].min(g.abs() * hi);
             }
         }
-        Ok(())
+        Ok(drives)
     }
 
     fn model(&mut self, doc: &RobotDoc, floating: bool) -> Result<MultibodyModel, SceneError> {

@@ -14,7 +14,7 @@ mod threads;
 pub(crate) use crate::profile::Clock;
 pub use crate::profile::{PerStep, Profile};
 pub use hash::StateHasher;
-pub use robots::{robot_method, JointSteps, LinkState, Robot};
+pub use robots::{robot_method, ActuatorDrive, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
 /// Largest position (m), velocity (m/s) or angular velocity (rad/s) magnitude taken as a sane state;

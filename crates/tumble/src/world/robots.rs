@@ -33,6 +33,31 @@ use crate::multibody::fk::{forward_kinematics, frame_x_world};
 use crate::multibody::spatial::{Force, Motion, Xform};
 use crate::multibody::{Control, Frame, LengthError, Method, MultibodyModel, Simulator, Workspace};
 
+/// An MJCF actuator on a one-coordinate joint, as a robot's control holds it: its control `u`
+/// changes the joint force by `g k u` (gear × gain; the bias terms are the control's constant,
+/// stiffness and damping, which `u` does not change).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuatorDrive {
+    pub name: String,
+    /// The velocity coordinate it drives.
+    pub v_index: usize,
+    /// `g k` (N·m or N per unit of control).
+    pub torque_per_ctrl: f64,
+    /// `ctrlrange` when the control is limited.
+    pub ctrl_range: Option<(f64, f64)>,
+    /// The control that `control` holds (the scene's `ctrl`, 0 unless given).
+    pub ctrl: f64,
+}
+
+impl ActuatorDrive {
+    fn clamped(&self, u: f64) -> f64 {
+        match self.ctrl_range {
+            Some((lo, hi)) => u.clamp(lo, hi),
+            None => u,
+        }
+    }
+}
+
 /// A robot of the world: model, control, state and workspaces.
 #[derive(Debug, Clone)]
 pub struct Robot {
@@ -47,6 +72,10 @@ pub struct Robot {
     pub floating: bool,
     /// Friction and restitution of every link (`None`: the world's defaults).
     pub material: crate::body::Material,
+    /// The MJCF actuators that drive it (empty for a URDF robot), their effect at the scene's
+    /// controls already in `control` (`scene::robot`); [`Robot::ctrl_torque`] gives the change of
+    /// other controls.
+    pub actuators: Vec<ActuatorDrive>,
     /// State `(q, v)` and the integrator's scratch.
     sim: Simulator,
     /// Forward kinematics of the current state.
@@ -114,6 +143,7 @@ impl Robot {
             control,
             floating,
             material: crate::body::Material::default(),
+            actuators: Vec::new(),
             sim,
             view,
             q_before: q,
@@ -129,6 +159,18 @@ impl Robot {
         };
         robot.refresh();
         Ok(robot)
+    }
+
+    /// The change of joint forces (nv, added to `out`) when the actuators' controls are `ctrl`
+    /// (one per actuator, in [`Robot::actuators`] order, each clamped to its `ctrlrange`) instead
+    /// of those `control` holds: `Σ g k (u − u_held)` on each actuator's coordinate.
+    pub fn ctrl_torque(&self, ctrl: &[f64], out: &mut [f64]) -> Result<(), LengthError> {
+        crate::multibody::workspace::check_len("ctrl (one per actuator)", ctrl.len(), self.actuators.len())?;
+        crate::multibody::workspace::check_len("joint forces (nv)", out.len(), self.model.nv())?;
+        for (a, &u) in self.actuators.iter().zip(ctrl) {
+            out[a.v_index] += a.torque_per_ctrl * (a.clamped(u) - a.clamped(a.ctrl));
+        }
+        Ok(())
     }
 
     /// Enforces (or not) the URDF position limits of the revolute and prismatic joints (off for a
