@@ -180,6 +180,41 @@ impl Model {
         Ok(self.world.robots[r].actuators.iter().map(|a| a.name.clone()).collect())
     }
 
+    /// The joint forces `(..., nv)` that the actuators' controls `ctrl` `(..., n_actuators)` add to a
+    /// robot's (each control clamped to its `ctrlrange`; gear × gain × ctrl on its joint): what
+    /// `World.set_ctrl` applies, and for a one-robot model a rollout's `control` that drives the
+    /// actuators by `ctrl` at every step.
+    #[pyo3(signature = (ctrl, robot = None))]
+    fn ctrl_torque<'py>(
+        &self,
+        py: Python<'py>,
+        ctrl: &Bound<'py, PyAny>,
+        robot: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, numpy::PyArrayDyn<f64>>> {
+        use numpy::{PyArrayMethods, PyUntypedArrayMethods};
+        let r = self.robot_index(robot)?;
+        let target = &self.world.robots[r];
+        let (n, nv) = (target.actuators.len(), self.robots[r].nv);
+        let a = crate::arrays::f64_array(ctrl, "ctrl")?;
+        let shape = a.shape().to_vec();
+        if shape.last() != Some(&n) {
+            let mut want: Vec<Option<usize>> = vec![None; shape.len().max(1) - 1];
+            want.push(Some(n));
+            crate::arrays::check_shape("ctrl", &shape, &want, "(..., n_actuators) controls")?;
+        }
+        let ro = a.try_readonly().map_err(|e| bad(format!("ctrl: {e}")))?;
+        let values = crate::arrays::values(&ro);
+        crate::arrays::check_finite("ctrl", &values)?;
+        let rows = if n == 0 { 0 } else { values.len() / n };
+        let mut out = vec![0.0; rows * nv];
+        for (u, tau) in values.chunks(n.max(1)).zip(out.chunks_mut(nv.max(1))) {
+            target.ctrl_torque(u, tau).map_err(|e| bad(e.to_string()))?;
+        }
+        let mut out_shape = shape[..shape.len() - 1].to_vec();
+        out_shape.push(nv);
+        numpy::PyArray1::from_vec(py, out).reshape(out_shape)
+    }
+
     /// Rebuilds a model from `__reduce__`'s arguments.
     #[classmethod]
     fn _from_pickle(_cls: &Bound<'_, PyType>, text: String, format: &str, origin: String) -> PyResult<Self> {

@@ -80,3 +80,25 @@ def test_set_ctrl_errors_name_the_problem(tmp_path):
     urdf = tumble.World(tumble.Model.from_urdf(REPO / "scenes/robots/double_pendulum.urdf"))
     with pytest.raises(tumble.TumbleError, match="no MJCF actuator"):
         urdf.set_ctrl(0, [1.0])
+
+
+def test_a_rollout_driven_by_ctrl_equals_set_ctrl_in_a_world(tmp_path):
+    path = tmp_path / "servo.xml"
+    path.write_text(SERVO)
+    m = tumble.Model.from_mjcf(path)
+    rng = np.random.default_rng(7)
+    ctrl = rng.uniform(-1.5, 1.5, (3, 400, 2))  # beyond ctrlrange at times: clamped alike
+    u = m.ctrl_torque(ctrl)
+    assert u.shape == (3, 400, m.nu)
+    x0 = np.zeros((3, m.nstate))
+    x0[:, 0] = [0.0, 0.2, -0.3]
+    got = tumble.rollout(m, x0, 400, u, nthread=2)
+    for row in range(3):
+        w = tumble.World(m)
+        w.set_state(x0[row])
+        for k in range(400):
+            w.set_ctrl(0, ctrl[row, k])
+            w.step()
+            assert np.array_equal(w.state(), got[row, k])
+    with pytest.raises(tumble.TumbleError, match="n_actuators"):
+        m.ctrl_torque(np.zeros((4, 3)))

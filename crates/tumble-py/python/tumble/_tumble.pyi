@@ -53,6 +53,9 @@ class Model:
         planes, and the tree as one robot at MuJoCo's qpos0, its actuators at ctrl = 0."""
     def actuator_names(self, robot: _Robot | None = None) -> list[str]:
         """Names of a robot's MJCF actuators, in the order of `World.set_ctrl` (empty for URDF)."""
+    def ctrl_torque(self, ctrl: _ArrayLike, robot: _Robot | None = None) -> _F64:
+        """The joint forces (..., nv) that actuator controls (..., n_actuators) add: what set_ctrl
+        applies, and a one-robot model's rollout control that drives the actuators by ctrl."""
     @classmethod
     def _from_pickle(cls, text: str, format: str, origin: str) -> Model: ...
     def __reduce__(self) -> tuple[Any, tuple[str, str, str]]: ...
