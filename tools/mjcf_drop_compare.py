@@ -17,7 +17,8 @@ tumble's mechanical energy. Trajectories are expected to differ once contacts ac
 contacts are soft, tumble's are impulses with Coulomb friction); the figures show how they compare.
 
 Checks (tumble, zero control): no NaN, the deepest penetration under 2 mm after the landing, and
-the mechanical energy never above its start (a passive system that only loses energy).
+the mechanical energy never above its lowest value so far (a passive system only loses energy), to
+1e-6 J.
 """
 import argparse
 import math
@@ -52,6 +53,7 @@ def run(name, seconds, sinus):
     steps = int(round(seconds / tm.dt))
     every = int(round(0.5 / tm.dt))
     e0 = tw.energy()
+    e_min = e0
     worst = {"nan": False, "energy_rise": 0.0, "depth": 0.0}
     weight = float(np.sum(mm.body_mass)) * 9.81
     print(f"\n{name}, {'sinusoidal' if sinus else 'zero'} control, dt = {tm.dt} s, {tm.integrator} / "
@@ -76,7 +78,10 @@ def run(name, seconds, sinus):
         if k * tm.dt > 1.0:
             worst["depth"] = max(worst["depth"], depth_t)
         if not sinus:
-            worst["energy_rise"] = max(worst["energy_rise"], tw.energy() - e0)
+            # a rise above the lowest energy so far: energy gained
+            e = tw.energy()
+            worst["energy_rise"] = max(worst["energy_rise"], e - e_min)
+            e_min = min(e_min, e)
         if k % every == 0:
             fn_t = sum(np.dot(c["force"], c["normal"]) for c in contacts)
             fn_m, depth_m = 0.0, 0.0
@@ -98,10 +103,10 @@ def main():
         for sinus in (False, True):
             w = run(name, args.seconds, sinus)
             if not sinus:
-                good = not w["nan"] and w["depth"] < 2e-3 and w["energy_rise"] <= 1e-9
+                good = not w["nan"] and w["depth"] < 2e-3 and w["energy_rise"] <= 1e-6
                 ok &= good
                 print(f"  checks: NaN {w['nan']}, deepest after 1 s {w['depth'] * 1e3:.3f} mm (< 2), "
-                      f"largest energy rise {w['energy_rise']:.2e} J (≤ 0): {'ok' if good else 'FAILED'}")
+                      f"largest energy gain {w['energy_rise']:.2e} J (≤ 1e-6): {'ok' if good else 'FAILED'}")
     sys.exit(0 if ok else 1)
 
 

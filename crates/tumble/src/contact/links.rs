@@ -410,7 +410,10 @@ impl LinkStage {
                     self.limit_rows.push(LimitRow {
                         robot: r,
                         limited: k,
-                        gap,
+                        // a joint that starts the step outside its limit is measured from where it
+                        // is: the row stops further motion out and lets it come back, it does not
+                        // push it in (as `multibody::limits` does without contact)
+                        gap: gap.max(0.0),
                         off,
                         normal_mass: 0.0,
                         softness: soft,
