@@ -231,7 +231,7 @@ impl Robot {
         &self.sim.v
     }
 
-    /// Kinetic plus gravitational potential energy (J), zero potential at the world origin.
+    /// Kinetic plus potential energy (J): gravity's (zero at the world origin) and the joint springs'.
     pub fn energy(&self) -> f64 {
         self.kinetic + self.potential
     }
@@ -312,6 +312,9 @@ impl Robot {
             potential -= b.inertia.mass * model.gravity.dot(c_world);
             momentum += ws.x_world[i].inv_apply_force(h_body);
         }
+        // and the joints' springs (MJCF `stiffness`), ½ k (q − q_ref)²: with them a passive robot's
+        // mechanical energy only falls (zero for a URDF robot, which has no joint springs)
+        potential += crate::multibody::spring_energy(model, &self.sim.q).unwrap_or(0.0);
         self.kinetic = kinetic;
         self.potential = potential;
         self.momentum = momentum;
@@ -511,7 +514,7 @@ impl World {
         self.robots.iter().position(|r| r.name == name)
     }
 
-    /// Energy of the robots, kinetic plus gravitational potential (J).
+    /// Energy of the robots, kinetic plus potential (gravity's and the joint springs') (J).
     pub fn robots_energy(&self) -> f64 {
         self.robots.iter().map(Robot::energy).sum()
     }
