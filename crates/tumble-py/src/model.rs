@@ -195,19 +195,20 @@ impl Model {
         let r = self.robot_index(robot)?;
         let target = &self.world.robots[r];
         let (n, nv) = (target.actuators.len(), self.robots[r].nv);
+        if n == 0 {
+            return Err(bad(format!("robot `{}` has no MJCF actuator", self.robots[r].name)));
+        }
         let a = crate::arrays::f64_array(ctrl, "ctrl")?;
         let shape = a.shape().to_vec();
-        if shape.last() != Some(&n) {
-            let mut want: Vec<Option<usize>> = vec![None; shape.len().max(1) - 1];
-            want.push(Some(n));
-            crate::arrays::check_shape("ctrl", &shape, &want, "(..., n_actuators) controls")?;
-        }
+        // any leading axes, then one control per actuator
+        let mut want = vec![None; shape.len().saturating_sub(1)];
+        want.push(Some(n));
+        crate::arrays::check_shape("ctrl", &shape, &want, "(..., n_actuators) controls")?;
         let ro = a.try_readonly().map_err(|e| bad(format!("ctrl: {e}")))?;
         let values = crate::arrays::values(&ro);
         crate::arrays::check_finite("ctrl", &values)?;
-        let rows = if n == 0 { 0 } else { values.len() / n };
-        let mut out = vec![0.0; rows * nv];
-        for (u, tau) in values.chunks(n.max(1)).zip(out.chunks_mut(nv.max(1))) {
+        let mut out = vec![0.0; values.len() / n * nv];
+        for (u, tau) in values.chunks(n).zip(out.chunks_mut(nv)) {
             target.ctrl_torque(u, tau).map_err(|e| bad(e.to_string()))?;
         }
         let mut out_shape = shape[..shape.len() - 1].to_vec();

@@ -176,7 +176,10 @@ impl World {
         let info = &model.robots[r];
         let n = self.world.robots[r].actuators.len();
         if n == 0 {
-            return Err(crate::bad(format!("robot `{}` has no MJCF actuator: drive it by set_torque or set_pd_target", info.name)));
+            return Err(crate::bad(format!(
+                "robot `{}` has no MJCF actuator: drive it by set_torque or set_pd_target",
+                info.name
+            )));
         }
         let ctrl = finite_vector(ctrl, "ctrl", n, "(nu_actuators,) controls")?;
         let mut extra = vec![0.0; info.nv];

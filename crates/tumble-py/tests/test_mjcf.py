@@ -80,6 +80,8 @@ def test_set_ctrl_errors_name_the_problem(tmp_path):
     urdf = tumble.World(tumble.Model.from_urdf(REPO / "scenes/robots/double_pendulum.urdf"))
     with pytest.raises(tumble.TumbleError, match="no MJCF actuator"):
         urdf.set_ctrl(0, [1.0])
+    with pytest.raises(tumble.TumbleError, match="no MJCF actuator"):
+        urdf.model.ctrl_torque([1.0])
 
 
 def test_a_rollout_driven_by_ctrl_equals_set_ctrl_in_a_world(tmp_path):

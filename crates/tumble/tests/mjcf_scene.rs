@@ -107,14 +107,7 @@ fn the_gymnasium_ant_comes_to_rest_on_the_floor() {
     assert!(q.iter().chain(v).all(|x| x.is_finite()));
     let speed = v.iter().map(|x| x * x).sum::<f64>().sqrt();
     // the lowest point of the ant's collision geometry
-    let lowest = scene
-        .world
-        .contacts()
-        .links
-        .contacts()
-        .iter()
-        .map(|c| c.gap)
-        .fold(f64::INFINITY, f64::min);
+    let lowest = scene.world.contacts().links.contacts().iter().map(|c| c.gap).fold(f64::INFINITY, f64::min);
     eprintln!("ant after 3 s: torso z = {:.4} m, |v| = {speed:.2e}, deepest gap {lowest:.2e} m", q[2]);
     assert!(q[2] > 0.1 && q[2] < 0.8, "torso height {}", q[2]);
     assert!(speed < 1e-2, "|v| = {speed}");
@@ -133,7 +126,8 @@ fn e_line() -> String {
 
 fn error(robot: &str) -> String {
     let xml = pendulum_xml(0.0);
-    let (_dir, loaded) = load(&[("servo.xml", &xml), ("arm.urdf", "<robot name=\"a\"><link name=\"l\"/></robot>")], robot, 1.0);
+    let (_dir, loaded) =
+        load(&[("servo.xml", &xml), ("arm.urdf", "<robot name=\"a\"><link name=\"l\"/></robot>")], robot, 1.0);
     match loaded {
         Ok(_) => panic!("accepted: {robot}"),
         Err(e) => e.to_string(),

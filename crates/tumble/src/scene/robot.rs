@@ -271,16 +271,27 @@ impl RobotReader<'_, '_> {
                 .err("urdf", urdf, "a robot is read from one file: both `urdf` and `mjcf` are given")
                 .hint("keep one of them"));
         }
-        let refused: [(&str, Option<Option<&std::ops::Range<usize>>>, &str); 4] = [
-            ("base", doc.base.as_ref().map(|l| l.span.as_ref()), "the MJCF file decides the base: a root body with a free joint floats, any other is fixed"),
-            ("balance_inertia", doc.balance_inertia.as_ref().map(|l| l.span.as_ref()), "a URDF option: the MJCF reader takes the file's inertias as MuJoCo does"),
-            ("package_paths", doc.package_paths.as_ref().map(|l| l.span.as_ref()), "a URDF option: an MJCF file finds its meshes by `meshdir`/`assetdir`"),
-            ("lock", doc.lock.as_ref().map(|l| l.span.as_ref()), "not yet for an MJCF robot"),
+        // the URDF-only keys, where given: (key, its span, why)
+        let refused = [
+            (
+                "base",
+                doc.base.as_ref().map(|l| &l.span),
+                "the MJCF file decides the base: a root body with a free joint floats, any other is fixed",
+            ),
+            (
+                "balance_inertia",
+                doc.balance_inertia.as_ref().map(|l| &l.span),
+                "a URDF option: the MJCF reader takes the file's inertias as MuJoCo does",
+            ),
+            (
+                "package_paths",
+                doc.package_paths.as_ref().map(|l| &l.span),
+                "a URDF option: an MJCF file finds its meshes by `meshdir`/`assetdir`",
+            ),
+            ("lock", doc.lock.as_ref().map(|l| &l.span), "not yet for an MJCF robot"),
         ];
-        for (key, span, why) in refused {
-            if let Some(span) = span {
-                return Err(self.src.error(span, self.at(key), format!("not used with `mjcf`: {why}")));
-            }
+        if let Some((key, Some(span), why)) = refused.into_iter().find(|(_, span, _)| span.is_some()) {
+            return Err(self.src.error(span.as_ref(), self.at(key), format!("not used with `mjcf`: {why}")));
         }
         let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
         let path = scene_dir.join(&file.value);
@@ -325,11 +336,22 @@ impl RobotReader<'_, '_> {
                     for (name, x) in entries {
                         let key = format!("ctrl.{name}");
                         let Some(k) = names.iter().position(|n| n == name) else {
-                            let e = self.err(&key, x, format!("names no actuator of `{}`", doc.mjcf.as_ref().map_or("", |f| f.value.as_str())));
+                            let e = self.err(
+                                &key,
+                                x,
+                                format!(
+                                    "names no actuator of `{}`",
+                                    doc.mjcf.as_ref().map_or("", |f| f.value.as_str())
+                                ),
+                            );
                             let list = names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
                             return Err(match nearest(name, &names) {
                                 Some(best) => e.hint(format!("did you mean `{best}`? (actuators: {list})")),
-                                None => e.hint(if names.is_empty() { "the file has no actuator".to_string() } else { format!("actuators: {list}") }),
+                                None => e.hint(if names.is_empty() {
+                                    "the file has no actuator".to_string()
+                                } else {
+                                    format!("actuators: {list}")
+                                }),
                             });
                         };
                         if !x.value.is_finite() {
@@ -344,10 +366,20 @@ impl RobotReader<'_, '_> {
             (0..model.nv()).map(|i| control.tau[i] != 0.0 || control.kp[i] != 0.0 || control.kd[i] != 0.0).collect();
         let mut driven = vec![0usize; model.nv()];
         for a in &m.actuators {
-            let j = model.joint_index(&a.joint).ok_or_else(|| self.mjcf_err(doc, format!("actuator `{}`: joint `{}` is not in the model", a.name, a.joint)))?;
+            let j = model.joint_index(&a.joint).ok_or_else(|| {
+                self.mjcf_err(doc, format!("actuator `{}`: joint `{}` is not in the model", a.name, a.joint))
+            })?;
             let joint = &model.bodies[j].joint;
             if joint.kind.nv() != 1 {
-                return Err(self.mjcf_err(doc, format!("actuator `{}`: drives the {} joint `{}`; tumble drives hinges and slides only", a.name, joint.kind.name(), a.joint)));
+                return Err(self.mjcf_err(
+                    doc,
+                    format!(
+                        "actuator `{}`: drives the {} joint `{}`; tumble drives hinges and slides only",
+                        a.name,
+                        joint.kind.name(),
+                        a.joint
+                    ),
+                ));
             }
             driven[joint.v_index] += 1;
         }
@@ -355,31 +387,40 @@ impl RobotReader<'_, '_> {
         for (a, &u) in m.actuators.iter().zip(&ctrl) {
             let j = model.joint_index(&a.joint).expect("checked above");
             let vi = model.bodies[j].joint.v_index;
-            drives.push(crate::world::ActuatorDrive {
+            let drive = crate::world::ActuatorDrive {
                 name: a.name.clone(),
                 v_index: vi,
                 torque_per_ctrl: a.gear * a.gain,
                 ctrl_range: a.ctrl_range,
                 ctrl: u,
-            });
-            let reference = m.layout.joints.iter().find(|lj| lj.name == a.joint).map_or(0.0, |lj| lj.reference);
-            let u = match a.ctrl_range {
-                Some((lo, hi)) => u.clamp(lo, hi),
-                None => u,
             };
+            let u = drive.clamped(u);
+            drives.push(drive);
+            let reference = m.layout.joints.iter().find(|lj| lj.name == a.joint).map_or(0.0, |lj| lj.reference);
             let g = a.gear;
             let [b0, b1, b2] = a.bias;
             let (stiffness, damping) = (-g * g * b1, -g * g * b2);
             if stiffness < 0.0 || damping < 0.0 {
-                return Err(self.mjcf_err(doc, format!(
-                    "actuator `{}`: a bias that pushes away from its set point (b₁ = {}, b₂ = {}) is not supported",
-                    a.name, num(b1), num(b2)
-                )));
+                return Err(self.mjcf_err(
+                    doc,
+                    format!(
+                        "actuator `{}`: a bias that pushes away from its set point (b₁ = {}, b₂ = {}) is not supported",
+                        a.name,
+                        num(b1),
+                        num(b2)
+                    ),
+                ));
             }
             if commanded[vi] {
-                return Err(self.mjcf_err(doc, format!(
-                    "actuator `{}` drives joint `{}`, which `torque` or `[robot.pd]` drives too", a.name, a.joint
-                )).hint("drive a joint by its actuator (`ctrl`) or by the scene's `torque`/`pd`, not both"));
+                return Err(self
+                    .mjcf_err(
+                        doc,
+                        format!(
+                            "actuator `{}` drives joint `{}`, which `torque` or `[robot.pd]` drives too",
+                            a.name, a.joint
+                        ),
+                    )
+                    .hint("drive a joint by its actuator (`ctrl`) or by the scene's `torque`/`pd`, not both"));
             }
             control.tau[vi] += g * (a.gain * u + b0 + b1 * g * reference);
             control.kp[vi] += stiffness;

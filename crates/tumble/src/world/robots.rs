@@ -50,7 +50,8 @@ pub struct ActuatorDrive {
 }
 
 impl ActuatorDrive {
-    fn clamped(&self, u: f64) -> f64 {
+    /// `u` clamped to the `ctrlrange`.
+    pub fn clamped(&self, u: f64) -> f64 {
         match self.ctrl_range {
             Some((lo, hi)) => u.clamp(lo, hi),
             None => u,
