@@ -279,17 +279,11 @@ struct CurvedSlide {
 /// Where the slip direction turns during the impact there is no closed form: the impulse should
 /// agree with an independent integration (scipy's DOP853 at rtol 1e-13, events located, written by
 /// `tools/impact_reference.py`) of 80 quadruped feet landing as the trotting scenes meet them and
-/// 54 random collisions, to 1e-9 of the impulse.
-///
-/// Known to fail (2026-12-03): the fixed-step RK4 of the slide misses the slip's stop where the
-/// path curves into it: the landings agree to 5e-7, four random collisions only to 5e-4, 7e-4,
-/// 9e-3 and 7e-2 (the slip passes the stop, then RK4's stages straddle the origin and hold a
-/// spurious slip; `cargo test --release -p tumble --test contact_impact -- --ignored` prints the
-/// worst case). Limiting the turn of the friction direction per step to 0.02 rad brings every case
-/// within 1e-6 but doubles the collisions' cost on the trotting quadrupeds; the fix must come with
-/// a cheaper approach to the stop (see docs/contact.md).
+/// 54 random collisions, to 1e-9 of the impulse. Measured (2026-12-04): landings to 4e-11, random
+/// collisions to 5e-10 (the worst a slip that spirals in for hundreds of turns). Before the slip
+/// was integrated in `σ = ln(ρ_s/|u_t|)` near its stop, the fixed-step RK4 in `p_z` missed stops
+/// that the path curves into, by up to 7e-2.
 #[test]
-#[ignore = "known: the fixed-step slide misses curved stops (errors up to 7e-2); see the comment"]
 fn a_curved_slide_agrees_with_an_independent_integration() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/impact/curved_slides.json");
     let cases: Vec<CurvedSlide> = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();

@@ -21,10 +21,20 @@
 //!   at `u_z = 0` with `W_c`. Stronge's law ends the impact when `W = (1 − e²) W_c`; Newton's when
 //!   `u_z = −e u_z⁻`; Poisson's when `p_z = (1 + e) p_z(compression)`.
 //!
-//! Sliding is integrated with classical RK4 in `p_z`, steps of 1/256 of the frictionless
-//! compression impulse, each event (end of compression, the slip's stop, end of restitution)
-//! located by regula falsi; once the slip has stopped, the rest (sticking, or the diverging ray)
-//! is linear in `p_z` and finished in closed form. Stronge's law cannot create energy; round-off and the other two laws could, so the
+//! Sliding has no closed form once the slip's direction turns; it is integrated in one of two
+//! charts, with adaptive Dormand–Prince 5(4) steps (local error 1e-10 of the impact's scales):
+//!
+//! - in `p_z` while the slip `ρ = |u_t|` is not shrinking fast (`û·g > −½|g|`, `g = du_t/dp_z`),
+//!   the step at most `ρ/|g|` (a radian of turn);
+//! - in `σ = ln(ρ_s/ρ)` while it shrinks towards a stop: `dφ/dσ = (û × g)/(−û·g)` and `dp_z/dσ =
+//!   ρ/(−û·g)` are smooth up to the stop (`σ → ∞`), where in `p_z` the friction direction turns
+//!   ever faster and a fixed step straddles the stop. Once what is left of the slip is below 1e-11
+//!   of the speed, or its direction has settled, the rest of the slip is a straight stop, closed
+//!   form.
+//!
+//! Each event (end of compression, end of restitution) is located inside its step by regula falsi
+//! on the step's length; once the slip has stopped, the rest (sticking, or the diverging ray) is
+//! linear in `p_z` and finished in closed form. Stronge's law cannot create energy; round-off and the other two laws could, so the
 //! result is checked: if `ΔT = u⁻·P + ½ Pᵀ K P > 0` the impulse is scaled back to `ΔT = 0`.
 
 use crate::math::{DMat3, DVec3};
@@ -65,12 +75,20 @@ pub struct Impact {
     pub energy_lost: f64,
 }
 
-/// Integration steps per frictionless compression impulse.
-const STEPS: f64 = 256.0;
+/// Local error allowed in one adaptive step, relative to the impact's scales (the frictionless
+/// compression impulse, the approach speed; radians for the slip direction).
+const TOL: f64 = 1e-10;
 /// Largest number of integration steps in one impact (a guard against jamming).
 const MAX_STEPS: usize = 100_000;
 /// An impulse beyond this many times the frictionless one is a jam (see [`collide`]).
 const JAMMED: f64 = 1e6;
+/// The slip is integrated in `σ = ln(ρ_s/|u_t|)` once `û·g < −ENTER |g|` (the slip shrinks at more
+/// than half its largest rate), and back in `p_z` once `û·g > −LEAVE |g|` (hysteresis).
+const ENTER: f64 = 0.5;
+/// A slip below this fraction of the contact's speed has stopped (what is left of it would move
+/// the impulse by about as much, relative).
+const STOPPED: f64 = 1e-11;
+const LEAVE: f64 = 0.25;
 
 /// The impulse of a collision with relative contact velocity `u_world` (m/s, world frame,
 /// approaching: `u·n < 0`), collision matrix `k_world` (1/kg, world frame), unit normal `n` (A → B),
@@ -128,15 +146,32 @@ struct Integration {
     compressing: bool,
     w_c: f64,
     p_c: f64,
+    /// The next step in `p_z` and in `σ` (each chart's step-size control goes on from where it left).
     h: f64,
-    /// The nominal step (1/256 of the frictionless compression impulse) and the velocity scale.
-    h0: f64,
+    h_sigma: f64,
+    /// The frictionless compression impulse `−u_z0/K_zz` and the speed `|u⁻|`: the scales of the
+    /// error control.
+    p_scale: f64,
     u_scale: f64,
+    /// A slip this small has stopped (see [`STOPPED`]).
+    stop_tol: f64,
+    /// `dy/dp_z` at `y`, when the last step of [`slide_step`](Self::slide_step) left it at hand.
+    slope_at_y: Option<[f64; 6]>,
+}
+
+/// How a stretch of sliding integrated in `σ` ended.
+enum SigmaEnd {
+    /// The impact ended while sliding.
+    Ended,
+    /// The slip stopped (`u_t = 0`).
+    Stopped,
+    /// The slip no longer shrinks fast enough for `σ`: go on in `p_z`.
+    Turned,
 }
 
 impl Integration {
     fn new(k: DMat3, u0: DVec3, mu: f64, e: f64, law: RestitutionLaw) -> Self {
-        let h = -u0.z / k.z_axis.z / STEPS;
+        let p_scale = -u0.z / k.z_axis.z;
         Self {
             k,
             mu,
@@ -148,19 +183,22 @@ impl Integration {
             compressing: true,
             w_c: 0.0,
             p_c: 0.0,
-            h,
-            h0: h,
+            h: p_scale / 16.0,
+            h_sigma: 0.25,
+            p_scale,
             u_scale: u0.length(),
+            stop_tol: 0.0,
+            slope_at_y: None,
         }
     }
 
     /// Runs the impact to its end; the impulse in the contact frame.
     fn run(&mut self) -> DVec3 {
-        let scale = self.u_z0.abs() + DVec3::new(self.y[0], self.y[1], 0.0).length();
-        let stick_tol = 1e-12 * scale;
+        let stick_tol = STOPPED * (self.u_z0.abs() + DVec3::new(self.y[0], self.y[1], 0.0).length());
+        self.stop_tol = stick_tol;
         for _ in 0..MAX_STEPS {
-            let ut = (self.y[0], self.y[1]);
-            if self.mu == 0.0 || (ut.0 * ut.0 + ut.1 * ut.1).sqrt() <= stick_tol {
+            let rho = norm2(self.y[0], self.y[1]);
+            if self.mu == 0.0 || rho <= stick_tol {
                 match self.stick_direction() {
                     Ok(xi) => return self.finish_linear(xi),
                     // sliding resumes along the diverging ray s, on which it stays: `du_t/dp_z =
@@ -172,7 +210,25 @@ impl Integration {
                     Err(s) => return self.finish_linear((-self.mu * s.0, -self.mu * s.1)),
                 }
             }
-            if self.slide_step() {
+            if !(self.p_z <= JAMMED * 2.0 * self.p_scale) {
+                // a jam (see `collide`), or a NaN
+                return self.impulse();
+            }
+            let (ux, uy) = (self.y[0] / rho, self.y[1] / rho);
+            let g = self.rate(ux, uy);
+            let g_t = norm2(g.x, g.y);
+            let shrink = ux * g.x + uy * g.y;
+            if shrink < -ENTER * g_t {
+                self.slope_at_y = None;
+                match self.slide_sigma(rho) {
+                    SigmaEnd::Ended => return self.impulse(),
+                    SigmaEnd::Stopped => {
+                        self.y[0] = 0.0;
+                        self.y[1] = 0.0;
+                    }
+                    SigmaEnd::Turned => {}
+                }
+            } else if self.slide_step(rho, g_t) {
                 return self.impulse();
             }
         }
@@ -181,6 +237,12 @@ impl Integration {
 
     fn impulse(&self) -> DVec3 {
         DVec3::new(self.y[3], self.y[4], self.p_z)
+    }
+
+    /// `du/dp_z = K (−μ û, 1)` while sliding along the unit `û = (u_x, u_y)`; its tangential part
+    /// is the slip's rate `g(û)`.
+    fn rate(&self, ux: f64, uy: f64) -> DVec3 {
+        slip_rate(&self.k, self.mu, ux, uy)
     }
 
     /// Sticking analysis: `Ok(ξ)` if sticking is stable (`|ξ| ≤ μ`, frictionless: `ξ = 0`), else
@@ -239,8 +301,16 @@ impl Integration {
 
     /// Stable sticking (or no friction): `du/dp_z = K (ξ, 1)` is constant; finish in closed form.
     fn finish_linear(&mut self, xi: (f64, f64)) -> DVec3 {
-        let dir = DVec3::new(xi.0, xi.1, 1.0);
-        let du = self.k * dir;
+        self.advance_linear(xi, f64::INFINITY);
+        self.impulse()
+    }
+
+    /// Advances with the tangential impulse growing as `dp_t/dp_z = ξ` (so that `du/dp_z = K (ξ,
+    /// 1)` is constant and everything is closed form) by `max` in `p_z` or to the end of the
+    /// impact, whichever comes first, ending compression on the way. Returns whether the impact
+    /// ended.
+    fn advance_linear(&mut self, xi: (f64, f64), max: f64) -> bool {
+        let du = self.k * DVec3::new(xi.0, xi.1, 1.0);
         let dz = du.z.max(1e-300);
         let advance = |s: &mut Self, dp: f64| {
             let uz = s.y[2];
@@ -252,11 +322,17 @@ impl Integration {
             s.y[4] += xi.1 * dp;
             s.p_z += dp;
         };
+        let mut max = max;
         if self.compressing {
             let dp = (-self.y[2] / dz).max(0.0);
+            if dp > max {
+                advance(self, max);
+                return false;
+            }
             advance(self, dp);
             self.y[2] = 0.0;
             self.end_compression();
+            max -= dp;
         }
         let dp = match self.law {
             RestitutionLaw::Stronge => {
@@ -269,8 +345,13 @@ impl Integration {
             RestitutionLaw::Newton => (-self.e * self.u_z0 - self.y[2]) / dz,
             RestitutionLaw::Poisson => (1.0 + self.e) * self.p_c - self.p_z,
         };
-        advance(self, dp.max(0.0));
-        self.impulse()
+        let dp = dp.max(0.0);
+        if dp > max {
+            advance(self, max);
+            return false;
+        }
+        advance(self, dp);
+        true
     }
 
     fn end_compression(&mut self) {
@@ -279,57 +360,46 @@ impl Integration {
         self.p_c = self.p_z;
     }
 
-    /// The event that ends the current phase: negative before it, ≥ 0 at and after it.
-    fn event(&self, y: &[f64; 6], p_z: f64) -> f64 {
+    /// The event that ends the current phase, from the normal velocity `u_z`, the work `W` and
+    /// `p_z`: negative before it, ≥ 0 at and after it.
+    fn event(&self, u_z: f64, w: f64, p_z: f64) -> f64 {
         if self.compressing {
-            return y[2];
+            return u_z;
         }
         match self.law {
-            RestitutionLaw::Stronge => y[5] - (1.0 - self.e * self.e) * self.w_c,
-            RestitutionLaw::Newton => y[2] + self.e * self.u_z0,
+            RestitutionLaw::Stronge => w - (1.0 - self.e * self.e) * self.w_c,
+            RestitutionLaw::Newton => u_z + self.e * self.u_z0,
             RestitutionLaw::Poisson => p_z - (1.0 + self.e) * self.p_c,
         }
     }
 
-    /// One sliding step (an event found inside it shortens it). Returns whether the impact ended.
-    ///
-    /// Two events end a step early: the phase's end ([`event`](Self::event) reaches 0) and the stop
-    /// of the slip, which is taken where either RK4 or the Euler predictor reverses `u_t` (RK4's
-    /// stages straddling the stop average the discontinuous friction direction and can miss it).
-    /// The predictor's stop is a closed form, `(u_t0 + s k1_t)·u_t0 = 0`; the other two are roots
-    /// of smooth functions of the step, found by regula falsi (Illinois) in a bracket.
-    fn slide_step(&mut self) -> bool {
-        let ut0 = (self.y[0], self.y[1]);
-        let k1 = self.slope(&self.y);
-        // the Euler predictor's stop: s = |u_t0|² / (−k1_t·u_t0) when the slip decreases
-        let decrease = -(k1[0] * ut0.0 + k1[1] * ut0.1);
-        let euler_stop = if decrease > 0.0 { (ut0.0 * ut0.0 + ut0.1 * ut0.1) / decrease } else { f64::INFINITY };
-        // u_t·u_t0 ≤ 0: RK4 reversed the slip
-        let slip = move |y: &[f64; 6]| y[0] * ut0.0 + y[1] * ut0.1;
-        let full = rk4(self, &self.y, self.h);
-        let phase_ends = self.event(&full, self.p_z + self.h) >= 0.0;
-        if !phase_ends && slip(&full) > 0.0 && euler_stop > self.h {
-            self.y = full;
-            self.p_z += self.h;
-            // after a shortened step near a stop, grow back to the nominal step
-            self.h = (2.0 * self.h).min(self.h0);
-            return false;
-        }
-        // the first event in (0, h]: below the predictor's stop, where RK4's slip reverses or the
-        // phase ends, whichever comes first
-        let hi = self.h.min(euler_stop);
-        let y_hi = if hi < self.h { rk4(self, &self.y, hi) } else { full };
-        let mut stop = (euler_stop <= self.h).then_some(hi);
-        if slip(&y_hi) <= 0.0 {
-            let (lo, _) = self.first_root(hi, &y_hi, |_, y, _| -slip(y));
-            stop = Some(lo);
-        }
-        let end = (self.event(&y_hi, self.p_z + hi) >= 0.0)
-            .then(|| self.first_root(hi, &y_hi, |s, y, h| s.event(y, s.p_z + h)))
-            .filter(|&(_, hi_end)| stop.is_none_or(|lo_stop| hi_end <= lo_stop));
-        if let Some((_, hi)) = end {
-            self.y = rk4(self, &self.y, hi);
-            self.p_z += hi;
+    /// One adaptive step of sliding in `p_z`, the slip `ρ = |u_t|` shrinking at less than half its
+    /// largest rate `|g|`: the step is at most `ρ / |g|`, over which the slip's direction may turn
+    /// by a radian. The end of the phase inside it is located. Returns whether the impact ended.
+    fn slide_step(&mut self, rho: f64, g_t: f64) -> bool {
+        let h_max = if g_t > 0.0 { rho / g_t } else { f64::INFINITY };
+        let (p, u, w) = (self.p_scale, self.u_scale, self.p_scale * self.u_scale);
+        let scales = [u, u, u, p, p, w];
+        let (k, mu, y0) = (self.k, self.mu, self.y);
+        let f = |_: f64, y: &[f64; 6]| slope(&k, mu, y);
+        let k1 = self.slope_at_y.take().unwrap_or_else(|| f(0.0, &y0));
+        let Some(Accepted { taken, y: y1, slope: k_end, h_next }) =
+            adaptive_step(&f, 0.0, &y0, &k1, self.h.min(h_max), &scales)
+        else {
+            // no step the error control accepts (NaN): leave the impulse as it is
+            self.p_z = f64::INFINITY;
+            return true;
+        };
+        self.h = h_next;
+        if self.event(y1[2], y1[5], self.p_z + taken) >= 0.0 {
+            let p_z0 = self.p_z;
+            let at = |s: f64| if s == taken { y1 } else { dopri5(&f, 0.0, &y0, &k1, s).0 };
+            let root = first_root(taken, |s| {
+                let y = at(s);
+                self.event(y[2], y[5], p_z0 + s)
+            });
+            self.y = at(root);
+            self.p_z += root;
             if self.compressing {
                 self.y[2] = self.y[2].max(0.0);
                 self.end_compression();
@@ -337,86 +407,264 @@ impl Integration {
             }
             return true;
         }
-        // sliding stops at lo. RK4's last stage would sit on the stop, where the friction
-        // direction is round-off: step RK4 to 0.999 lo, where every stage still has a direction,
-        // then Euler over the last thousandth (the work `W = ∫ u_z dp_z` with its second-order
-        // term, exact while `du_z/dp_z` holds), and let the sticking analysis decide what follows
-        let lo = stop.unwrap_or(hi);
-        let y_near = rk4(self, &self.y, 0.999 * lo);
-        let slope = self.slope(&y_near);
-        let last = 0.001 * lo;
-        self.y = std::array::from_fn(|i| y_near[i] + last * slope[i]);
-        self.y[5] += 0.5 * slope[2] * last * last;
-        self.p_z += lo;
-        if (self.y[0] * self.y[0] + self.y[1] * self.y[1]).sqrt() > 1e-11 * self.u_scale && self.h > 1e-12 * self.h0 {
-            // the Euler predictor's stop was early (a curved slip path): go on in smaller steps
-            self.h *= 1.0 / 16.0;
-            return false;
-        }
-        self.h = self.h0;
-        self.y[0] = 0.0;
-        self.y[1] = 0.0;
+        self.y = y1;
+        self.p_z += taken;
+        self.slope_at_y = Some(k_end);
         false
     }
 
-    /// The bracket `(lo, hi)` of a root of `f(state after a step s)`, with `f < 0` at `s = 0` and
-    /// `f ≥ 0` at `s = h` (`y_h`: the state after the step `h`, already at hand): `f < 0` at `lo`, `f ≥ 0` at `hi`, `hi − lo ≤ 10⁻¹⁴ h`. Regula falsi with
-    /// the Illinois rule (the retained end's value halved when the same end is kept twice), which
-    /// converges superlinearly on a smooth `f` and never leaves the bracket.
-    fn first_root(&self, h: f64, y_h: &[f64; 6], f: impl Fn(&Self, &[f64; 6], f64) -> f64) -> (f64, f64) {
-        let (mut a, mut fa) = (0.0, f(self, &self.y, 0.0));
-        let (mut b, mut fb) = (h, f(self, y_h, h));
-        if !(fa < 0.0) {
-            // the event is already at the start (Stronge's law with e = 0 ends restitution at once)
-            return (0.0, 0.0);
-        }
-        if !(fb >= 0.0) {
-            return (0.0, h);
-        }
-        let mut kept = 0i8;
-        for _ in 0..100 {
-            if b - a <= 1e-14 * h {
-                break;
+    /// Sliding with `σ = ln(ρ_s/ρ)` as the independent variable, from the slip `ρ_s`, while the
+    /// slip shrinks (`a = û·g < 0`): with the slip's direction `φ`,
+    ///
+    /// `dφ/dσ = (û × g)/(−a)`, `dp_z/dσ = ρ/(−a)`, and `dp_t/dσ = −μ û dp_z/dσ`,
+    /// `du_z/dσ = (K (−μ û, 1))_z dp_z/dσ`, `dW/dσ = u_z dp_z/dσ`,
+    ///
+    /// all smooth up to the stop (`σ → ∞`, where `dp_z/dσ` vanishes like `e^{−σ}`), where in `p_z`
+    /// the slip's direction turns ever faster. Integrated until what is left of the slip (`ρ/(−a)`
+    /// in `p_z`) is negligible, or until the direction has settled and the rest is a straight
+    /// stop, finished in closed form.
+    fn slide_sigma(&mut self, rho_s: f64) -> SigmaEnd {
+        let (k, mu) = (self.k, self.mu);
+        let (p, u) = (self.p_scale, self.u_scale);
+        // z = [cos φ, sin φ, ρ/ρ_s, u_z, p_x, p_y, p_z, W]: the direction as a unit vector and the
+        // slip's decay e^{−σ} carried along, so that a stage needs no trigonometry or exponential
+        let mut z = [self.y[0] / rho_s, self.y[1] / rho_s, 1.0, self.y[2], self.y[3], self.y[4], self.p_z, self.y[5]];
+        let mut scales = [1.0, 1.0, 1.0, u, p, p, p, p * u];
+        let f = |_: f64, z: &[f64; 8]| {
+            let (c, s, decay) = (z[0], z[1], z[2]);
+            let du = slip_rate(&k, mu, c, s);
+            let per = 1.0 / -(c * du.x + s * du.y);
+            let turn = (c * du.y - s * du.x) * per;
+            let q = rho_s * decay * per;
+            [-turn * s, turn * c, -decay, du.z * q, -mu * c * q, -mu * s * q, q, z[3] * q]
+        };
+        let mut k1 = None;
+        let write_back = |s: &mut Self, z: &[f64; 8]| {
+            let rho = rho_s * z[2];
+            s.y = [rho * z[0], rho * z[1], z[3], z[4], z[5], z[7]];
+            s.p_z = z[6];
+        };
+        for _ in 0..MAX_STEPS {
+            // back on the unit circle when the steps' truncation has moved it off
+            let norm = norm2(z[0], z[1]);
+            if (norm - 1.0).abs() > 1e-9 {
+                (z[0], z[1]) = (z[0] / norm, z[1] / norm);
+                k1 = None;
             }
-            let mut c = (a * fb - b * fa) / (fb - fa);
-            if !(c > a && c < b) {
-                c = 0.5 * (a + b);
+            let (c, s) = (z[0], z[1]);
+            let du = slip_rate(&k, mu, c, s);
+            let (minus_a, turn) = (-(c * du.x + s * du.y), c * du.y - s * du.x);
+            if minus_a < LEAVE * norm2(du.x, du.y) {
+                write_back(self, &z);
+                return SigmaEnd::Turned;
             }
-            let fc = f(self, &rk4(self, &self.y, c), c);
-            if fc >= 0.0 {
-                (b, fb) = (c, fc);
-                if kept == 1 {
-                    fa *= 0.5;
+            // what is left of the slip, in p_z, were it to stop straight from here; stopping
+            // straight errs by about that times the direction's turn per unit σ in the impulse,
+            // and the slip times that turn in the velocity after (exact on a ray, where the slip's
+            // direction stays)
+            let left = rho_s * z[2] / minus_a;
+            let straight_err = left * turn.abs();
+            if rho_s * z[2] <= self.stop_tol || straight_err <= (1e-12 * p * minus_a).min(self.stop_tol) {
+                write_back(self, &z);
+                if self.advance_linear((-mu * c, -mu * s), left) {
+                    return SigmaEnd::Ended;
                 }
-                kept = 1;
-            } else {
-                (a, fa) = (c, fc);
-                if kept == -1 {
-                    fb *= 0.5;
-                }
-                kept = -1;
+                return SigmaEnd::Stopped;
             }
+            // an error δφ in the direction moves what is left of the impulse by about `left δφ`,
+            // a relative error in the decay by `left δ`
+            let weight = p / left;
+            (scales[0], scales[1], scales[2]) = (weight, weight, z[2] * weight);
+            let slope_z = k1.take().unwrap_or_else(|| f(0.0, &z));
+            let Some(Accepted { taken, y: z1, slope: k_end, h_next }) =
+                adaptive_step(&f, 0.0, &z, &slope_z, self.h_sigma, &scales)
+            else {
+                write_back(self, &z);
+                self.p_z = f64::INFINITY;
+                return SigmaEnd::Ended;
+            };
+            self.h_sigma = h_next;
+            if self.event(z1[3], z1[7], z1[6]) >= 0.0 {
+                let at = |s: f64| if s == taken { z1 } else { dopri5(&f, 0.0, &z, &slope_z, s).0 };
+                let root = first_root(taken, |s| {
+                    let z = at(s);
+                    self.event(z[3], z[7], z[6])
+                });
+                let z_root = at(root);
+                write_back(self, &z_root);
+                if !self.compressing {
+                    return SigmaEnd::Ended;
+                }
+                self.y[2] = self.y[2].max(0.0);
+                self.end_compression();
+                z = z_root;
+                z[3] = self.y[2];
+                continue;
+            }
+            z = z1;
+            k1 = Some(k_end);
         }
-        (a, b)
-    }
-
-    /// `dy/dp_z` while sliding.
-    fn slope(&self, y: &[f64; 6]) -> [f64; 6] {
-        let len = (y[0] * y[0] + y[1] * y[1]).sqrt();
-        let (fx, fy) = if len > 0.0 { (-self.mu * y[0] / len, -self.mu * y[1] / len) } else { (0.0, 0.0) };
-        let du = self.k * DVec3::new(fx, fy, 1.0);
-        [du.x, du.y, du.z, fx, fy, y[2]]
+        write_back(self, &z);
+        SigmaEnd::Stopped
     }
 }
 
-/// One classical Runge–Kutta step of size `h` in `p_z`.
-fn rk4(s: &Integration, y: &[f64; 6], h: f64) -> [f64; 6] {
-    let add = |a: &[f64; 6], k: &[f64; 6], f: f64| std::array::from_fn::<f64, 6, _>(|i| a[i] + f * k[i]);
-    let k1 = s.slope(y);
-    let k2 = s.slope(&add(y, &k1, 0.5 * h));
-    let k3 = s.slope(&add(y, &k2, 0.5 * h));
-    let k4 = s.slope(&add(y, &k3, h));
-    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+/// `√(x² + y²)` (the slips and rates here are far from overflow; `f64::hypot` costs several times more).
+fn norm2(x: f64, y: f64) -> f64 {
+    (x * x + y * y).sqrt()
+}
+
+/// `du/dp_z = K (−μ û, 1)` while sliding along the unit `û = (u_x, u_y)` (contact frame); its
+/// tangential part is the slip's rate `g(û)`.
+fn slip_rate(k: &DMat3, mu: f64, ux: f64, uy: f64) -> DVec3 {
+    *k * DVec3::new(-mu * ux, -mu * uy, 1.0)
+}
+
+/// `dy/dp_z` while sliding, `y = [u_x, u_y, u_z, p_x, p_y, W]`.
+fn slope(k: &DMat3, mu: f64, y: &[f64; 6]) -> [f64; 6] {
+    let len = norm2(y[0], y[1]);
+    let (ux, uy) = if len > 0.0 { (y[0] / len, y[1] / len) } else { (0.0, 0.0) };
+    let du = slip_rate(k, mu, ux, uy);
+    [du.x, du.y, du.z, -mu * ux, -mu * uy, y[2]]
+}
+
+/// One step of the Dormand–Prince 5(4) pair (J. R. Dormand, P. J. Prince, *A family of embedded
+/// Runge–Kutta formulae*, J. Comput. Appl. Math. 6, 1980; Hairer, Nørsett, Wanner, *Solving
+/// Ordinary Differential Equations I*, §II.5, Table 5.2) of `dy/dt = f(t, y)` from `(t, y)` with
+/// `k1 = f(t, y)` given: the fifth-order solution after `h`, the difference from the embedded
+/// fourth-order one (the error estimate), and the slope there (the next step's `k1`: first same
+/// as last).
+/// Written out here, not taken from an ODE crate, because the impact needs it on a fixed-size
+/// state with no allocation, inside its own event location and change of variable.
+fn dopri5<const N: usize>(
+    f: &impl Fn(f64, &[f64; N]) -> [f64; N],
+    t: f64,
+    y: &[f64; N],
+    k1: &[f64; N],
+    h: f64,
+) -> ([f64; N], [f64; N], [f64; N]) {
+    const C: [f64; 6] = [1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
+    const A2: [f64; 1] = [1.0 / 5.0];
+    const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+    const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+    const A5: [f64; 4] = [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0];
+    const A6: [f64; 5] = [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0];
+    // the fifth-order weights (also the last stage's row: first same as last)
+    const B: [f64; 6] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0];
+    // fifth- minus fourth-order weights, the last for the seventh stage
+    const E: [f64; 7] =
+        [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+    let mut k = [[0.0; N]; 7];
+    let mut stage = [0.0; N];
+    k[0] = *k1;
+    for i in 0..N {
+        stage[i] = y[i] + h * (A2[0] * k[0][i]);
+    }
+    k[1] = f(t + C[0] * h, &stage);
+    for i in 0..N {
+        stage[i] = y[i] + h * (A3[0] * k[0][i] + A3[1] * k[1][i]);
+    }
+    k[2] = f(t + C[1] * h, &stage);
+    for i in 0..N {
+        stage[i] = y[i] + h * (A4[0] * k[0][i] + A4[1] * k[1][i] + A4[2] * k[2][i]);
+    }
+    k[3] = f(t + C[2] * h, &stage);
+    for i in 0..N {
+        stage[i] = y[i] + h * (A5[0] * k[0][i] + A5[1] * k[1][i] + A5[2] * k[2][i] + A5[3] * k[3][i]);
+    }
+    k[4] = f(t + C[3] * h, &stage);
+    for i in 0..N {
+        stage[i] = y[i] + h * (A6[0] * k[0][i] + A6[1] * k[1][i] + A6[2] * k[2][i] + A6[3] * k[3][i] + A6[4] * k[4][i]);
+    }
+    k[5] = f(t + C[4] * h, &stage);
+    let mut y1 = [0.0; N];
+    for i in 0..N {
+        y1[i] = y[i] + h * (B[0] * k[0][i] + B[2] * k[2][i] + B[3] * k[3][i] + B[4] * k[4][i] + B[5] * k[5][i]);
+    }
+    k[6] = f(t + C[5] * h, &y1);
+    let mut err = [0.0; N];
+    for i in 0..N {
+        err[i] =
+            h * (E[0] * k[0][i] + E[2] * k[2][i] + E[3] * k[3][i] + E[4] * k[4][i] + E[5] * k[5][i] + E[6] * k[6][i]);
+    }
+    (y1, err, k[6])
+}
+
+/// A step [`adaptive_step`] accepted.
+struct Accepted<const N: usize> {
+    /// The step taken, the state after it and the slope there.
+    taken: f64,
+    y: [f64; N],
+    slope: [f64; N],
+    /// The step to try next.
+    h_next: f64,
+}
+
+/// One accepted step of [`dopri5`] from `(t, y)` (slope `k1` there), trying `h` first: the error, measured against
+/// `scales` component by component, at most [`TOL`]; smaller steps (the usual controller,
+/// `h ← 0.9 h (TOL/err)^{1/5}`) until it is. Returns the step taken, the state after it and the
+/// step to try next; `None` if no step is accepted (a NaN).
+fn adaptive_step<const N: usize>(
+    f: &impl Fn(f64, &[f64; N]) -> [f64; N],
+    t: f64,
+    y: &[f64; N],
+    k1: &[f64; N],
+    h: f64,
+    scales: &[f64; N],
+) -> Option<Accepted<N>> {
+    let mut h = h;
+    for _ in 0..200 {
+        let (y1, err, k_end) = dopri5(f, t, y, k1, h);
+        let ratio = err.iter().zip(scales).map(|(e, s)| (e / s).abs()).fold(0.0, f64::max) / TOL;
+        if ratio <= 1.0 {
+            let grow = if ratio > 0.0 { (0.9 * ratio.powf(-0.2)).clamp(0.2, 5.0) } else { 5.0 };
+            return Some(Accepted { taken: h, y: y1, slope: k_end, h_next: h * grow });
+        }
+        // a NaN ratio (a stage where the slip stops in σ) shrinks the step too
+        h *= if ratio.is_finite() { (0.9 * ratio.powf(-0.2)).clamp(0.1, 0.5) } else { 0.25 };
+    }
+    None
+}
+
+/// The first `s ∈ (0, h]` where `f(s)` reaches zero, with `f < 0` at `s = 0` and `f ≥ 0` at
+/// `s = h`: the upper end of a bracket no wider than `10⁻¹⁴ h` (so that `f ≥ 0` there). Regula
+/// falsi with the Illinois rule (the retained end's value halved when the same end is kept
+/// twice), which converges superlinearly on a smooth `f` and never leaves the bracket.
+fn first_root(h: f64, f: impl Fn(f64) -> f64) -> f64 {
+    let (mut a, mut fa) = (0.0, f(0.0));
+    let (mut b, mut fb) = (h, f(h));
+    if !(fa < 0.0) {
+        // the event is already at the start (Stronge's law with e = 0 ends restitution at once)
+        return 0.0;
+    }
+    if !(fb >= 0.0) {
+        return h;
+    }
+    let mut kept = 0i8;
+    for _ in 0..100 {
+        if b - a <= 1e-14 * h {
+            break;
+        }
+        let mut c = (a * fb - b * fa) / (fb - fa);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let fc = f(c);
+        if fc >= 0.0 {
+            (b, fb) = (c, fc);
+            if kept == 1 {
+                fa *= 0.5;
+            }
+            kept = 1;
+        } else {
+            (a, fa) = (c, fc);
+            if kept == -1 {
+                fb *= 0.5;
+            }
+            kept = -1;
+        }
+    }
+    b
 }
 
 /// The collision matrix `K` (1/kg, world frame) of a contact at offsets `r_a`, `r_b` (m, world frame)
@@ -433,4 +681,30 @@ pub fn collision_matrix(
     use crate::math::skew;
     let (sa, sb) = (skew(r_a), skew(r_b));
     DMat3::from_diagonal(DVec3::splat(inv_mass_a + inv_mass_b)) - sb * inv_inertia_b * sb - sa * inv_inertia_a * sa
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tableau is fifth order: on `y' = y`, halving the step divides the error after one unit
+    /// by about 2⁵; the embedded estimate of one step's error (the fourth-order solution's) shrinks
+    /// like h⁵.
+    #[test]
+    fn dormand_prince_is_fifth_order() {
+        let f = |_: f64, y: &[f64; 1]| [y[0]];
+        let error = |n: usize| {
+            let h = 1.0 / n as f64;
+            let mut y = [1.0];
+            for _ in 0..n {
+                y = dopri5(&f, 0.0, &y, &f(0.0, &y), h).0;
+            }
+            (y[0] - std::f64::consts::E).abs()
+        };
+        let ratio = error(16) / error(32);
+        assert!((ratio.log2() - 5.0).abs() < 0.3, "order {:.2}", ratio.log2());
+        let estimate = |h: f64| dopri5(&f, 0.0, &[1.0], &[1.0], h).1[0].abs();
+        let ratio = estimate(0.1) / estimate(0.05);
+        assert!((ratio.log2() - 5.0).abs() < 0.3, "estimate's order {:.2}", ratio.log2());
+    }
 }
