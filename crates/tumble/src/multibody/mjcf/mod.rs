@@ -27,6 +27,7 @@ mod assemble;
 mod attrs;
 mod build;
 mod defaults;
+pub mod filter;
 pub mod layout;
 mod mesh_inertia;
 mod pose;
@@ -37,6 +38,7 @@ use super::model::{ModelError, MultibodyModel};
 use crate::math::DVec3;
 use std::path::{Path, PathBuf};
 
+pub use filter::ContactFilter;
 pub use layout::MujocoLayout;
 pub use xml::{MAX_ELEMENT_DEPTH, MAX_INCLUDE_DEPTH, MAX_MJCF_BYTES};
 
@@ -188,6 +190,22 @@ pub struct Mjcf {
     /// The MJCF bodies in MuJoCo's order (world first): name, the tumble body it moves with
     /// (`None`: the world) and its frame in that body's (`body_X_mjcfbody`), for `xpos`/`xquat`.
     pub bodies: Vec<MjcfBody>,
+    /// The bodies with a free joint and no child bodies, in file order (MJCF names): each is a rigid
+    /// body of its own, which [`LeaveOut`] can take out of the tree.
+    pub free_bodies: Vec<String>,
+    /// MuJoCo's contact filter of the model's geometries ([`filter`]), one entry per geometry.
+    pub filter: ContactFilter,
+}
+
+/// What [`load_mjcf_leaving_out`] leaves out of the tree (`[[robot]] leave_out`): the world's
+/// geometry (the worldbody's geoms and those of bodies welded to it), and bodies with a free joint
+/// and no child bodies, by name. `tumble run X.xml` makes them scene bodies beside the robot.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LeaveOut {
+    /// The geometry fixed to the world.
+    pub world: bool,
+    /// Free bodies without child bodies (MJCF names; each must be one, else an error).
+    pub bodies: Vec<String>,
 }
 
 /// An MJCF body: where its frame sits on the tree.
@@ -214,6 +232,14 @@ pub fn load_mjcf(path: &Path, options: MjcfOptions) -> Result<Mjcf, MjcfError> {
     let root = xml::load(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     build::build(&root, &dir, options)
+}
+
+/// Reads an MJCF file without what `leave_out` names (see [`LeaveOut`]): the model, its layout
+/// (MuJoCo's coordinates of the joints kept), its bodies and geometry are those of the rest.
+pub fn load_mjcf_leaving_out(path: &Path, options: MjcfOptions, leave_out: &LeaveOut) -> Result<Mjcf, MjcfError> {
+    let root = xml::load(path)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    build::build_leaving_out(&root, &dir, options, leave_out)
 }
 
 /// Parses MJCF text; `file` names it in errors, includes and meshes are looked for beside it.

@@ -1,0 +1,239 @@
+//! An MJCF file as a whole world (`tumble run X.xml`, `scene::load_mjcf_world`):
+//!
+//! - geoms fixed to the world become fixed bodies with their pose (`euler`, `zaxis`, `fromto`),
+//!   childless free bodies scene bodies: a box dropped on a rotated worldbody box comes to rest on
+//!   it at the table's top plus its half height, a box on a plane tilted by `zaxis` rests at its half
+//!   height from the plane, a `fromto` capsule lies on the floor at its radius;
+//! - MuJoCo's contact filter: the pairs it allows on chains with a welded body, a free body,
+//!   `<exclude>` pairs and contype/conaffinity masks are those `mujoco` reports in contact
+//!   (`fixtures/mjcf/filter/`, `tools/mjcf_filter_fixtures.py`); in a run, a ball whose masks match
+//!   no other geom's falls through the floor while its twin lands, an excluded pair passes through
+//!   each other, a geom that can collide with nothing is no shape;
+//! - a free body the scene format cannot hold stays a robot, with a warning saying why.
+
+use std::path::{Path, PathBuf};
+use tumble::multibody::mjcf::{load_mjcf, MjcfOptions};
+use tumble::multibody::GeometryRole;
+use tumble::scene::{self, Scene};
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf")
+}
+
+/// The world of `xml`, written to a temporary file.
+fn world(xml: &str) -> (tempfile::TempDir, Scene) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("world.xml");
+    std::fs::write(&path, xml).unwrap();
+    let scene = scene::load_mjcf_world(&path).unwrap_or_else(|e| panic!("{e}"));
+    (dir, scene)
+}
+
+fn run(scene: &mut Scene, seconds: f64) {
+    let steps = (seconds / scene.world.config.dt).round() as usize;
+    for _ in 0..steps {
+        scene.world.step().unwrap();
+    }
+}
+
+fn body<'a>(scene: &'a Scene, name: &str) -> &'a tumble::body::RigidBody {
+    let i = scene.world.body_index(name).unwrap_or_else(|| panic!("no body {name}"));
+    &scene.world.bodies[i]
+}
+
+#[test]
+fn a_free_box_comes_to_rest_on_a_rotated_worldbody_box() {
+    let (_dir, mut scene) = world(
+        r#"<mujoco model="drop">
+  <option timestep="0.001"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <geom name="table" type="box" size="0.5 0.5 0.1" pos="0 0 0.3" euler="0 0 30"/>
+    <body name="cube" pos="0.1 0 0.6" euler="0 0 10">
+      <freejoint/>
+      <geom type="box" size="0.05 0.05 0.05" density="500"/>
+    </body>
+    <body name="stick" pos="2 0 0.5">
+      <freejoint/>
+      <geom type="capsule" fromto="-0.2 0 0 0.2 0 0" size="0.03"/>
+    </body>
+  </worldbody>
+</mujoco>"#,
+    );
+    assert_eq!(scene.world.robots.len(), 0, "both free bodies are scene bodies");
+    assert!(body(&scene, "table").fixed);
+    // the box's mass from its density: 500 kg/m³ × 0.1³ m³
+    assert!((body(&scene, "cube").mass.mass - 0.5).abs() < 1e-12);
+    run(&mut scene, 1.5);
+    let cube = body(&scene, "cube");
+    let z = cube.state.position.z;
+    eprintln!("cube at z = {z:.6} m (table top 0.4 + half height 0.05), |v| = {:.2e}", cube.state.velocity.length());
+    assert!((z - 0.45).abs() < 5e-4, "cube z = {z}");
+    assert!(cube.state.velocity.length() < 1e-3);
+    // it landed flat and stayed on the table
+    assert!(cube.state.position.truncate().length() < 0.4);
+    let stick = body(&scene, "stick");
+    eprintln!("capsule at z = {:.6} m (radius 0.03)", stick.state.position.z);
+    assert!((stick.state.position.z - 0.03).abs() < 5e-4);
+    // the body keeps the MJCF body's axes, the capsule's axis (`fromto` along body x) lying along world x
+    let axis = stick.orientation_user() * tumble::math::DVec3::X;
+    assert!(axis.x.abs() > 0.999, "axis {axis:?}");
+}
+
+#[test]
+fn a_box_rests_on_a_plane_tilted_by_zaxis() {
+    // a plane whose normal leans 20° towards −y; friction 1 > tan 20°: the box sticks
+    let (s, c) = 20f64.to_radians().sin_cos();
+    let (_dir, mut scene) = world(&format!(
+        r#"<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <geom name="slope" type="plane" size="5 5 0.1" zaxis="0 {} {}"/>
+    <body name="block" pos="0 {} {}" zaxis="0 {} {}">
+      <freejoint/>
+      <geom type="box" size="0.1 0.1 0.05"/>
+    </body>
+  </worldbody>
+</mujoco>"#,
+        -s,
+        c,
+        -s * 0.051,
+        c * 0.051,
+        -s,
+        c
+    ));
+    run(&mut scene, 1.0);
+    let block = body(&scene, "block");
+    let normal = tumble::math::DVec3::new(0.0, -s, c);
+    let height = block.state.position.dot(normal);
+    eprintln!("block {height:.6} m above the slope (half height 0.05), v = {:.2e}", block.state.velocity.length());
+    assert!((height - 0.05).abs() < 5e-4, "height {height}");
+    assert!(block.state.velocity.length() < 1e-3, "it sticks: v = {:?}", block.state.velocity);
+}
+
+#[test]
+fn the_contact_filter_allows_the_pairs_mujoco_reports_in_contact() {
+    let expected: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixtures().join("filter/filter.json")).unwrap()).unwrap();
+    for model in ["chain", "chain_exclude", "chain_masks"] {
+        let mjcf = load_mjcf(&fixtures().join(format!("filter/{model}.xml")), MjcfOptions::default()).unwrap();
+        let geoms = &mjcf.model.geometries;
+        let mut allowed = Vec::new();
+        for a in 0..geoms.len() {
+            for b in a + 1..geoms.len() {
+                if mjcf.filter.may_collide(a, b) {
+                    let mut pair = [geoms[a].name.clone().unwrap(), geoms[b].name.clone().unwrap()];
+                    pair.sort();
+                    allowed.push(pair);
+                }
+            }
+        }
+        allowed.sort();
+        let mujoco: Vec<[String; 2]> = serde_json::from_value(expected[model].clone()).unwrap();
+        eprintln!("{model}: {} pairs allowed, as mujoco {}", allowed.len(), expected["mujoco"]);
+        assert_eq!(allowed, mujoco, "{model}");
+    }
+}
+
+#[test]
+fn masks_and_excludes_decide_what_collides_in_a_run() {
+    let (_dir, mut scene) = world(
+        r#"<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <geom name="ghost_rail" type="capsule" fromto="-1 2 0.1 1 2 0.1" size="0.02" contype="4" conaffinity="0"/>
+    <body name="lander" pos="0 0 0.3"><freejoint/><geom type="sphere" size="0.1"/></body>
+    <body name="sinker" pos="1 0 0.3"><freejoint/><geom type="sphere" size="0.1" contype="2" conaffinity="2"/></body>
+    <body name="bottom" pos="-1 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    <body name="top" pos="-1 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    <body name="base" pos="-2 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    <body name="stacked" pos="-2 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+  </worldbody>
+  <contact><exclude body1="top" body2="bottom"/></contact>
+</mujoco>"#,
+    );
+    // the rail's contype 4 meets no conaffinity: it is no collision shape, so no body
+    assert!(scene.world.body_index("ghost_rail").is_none());
+    run(&mut scene, 1.0);
+    let z = |name: &str| body(&scene, name).state.position.z;
+    eprintln!(
+        "lander {:.4}, sinker {:.4}, top {:.4} (on the floor through `bottom`), stacked {:.4} (on `base`)",
+        z("lander"),
+        z("sinker"),
+        z("top"),
+        z("stacked")
+    );
+    // (1 & 1): lands; (2 & 1) | (1 & 2) = 0: falls through, ½ g t² ≈ 4.9 m
+    assert!((z("lander") - 0.1).abs() < 5e-4);
+    assert!(z("sinker") < -4.0);
+    // the excluded pair passes through each other, both resting on the floor
+    assert!((z("top") - 0.1).abs() < 5e-4 && (z("bottom") - 0.1).abs() < 5e-4);
+    assert!((z("stacked") - 0.3).abs() < 1e-3);
+}
+
+#[test]
+fn a_free_body_the_scene_cannot_hold_stays_a_robot_and_says_why() {
+    let (_dir, scene) = world(
+        r#"<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <body name="lopsided" pos="0 0 1">
+      <freejoint/>
+      <inertial pos="0 0 0.05" mass="1" diaginertia="0.01 0.01 0.01"/>
+      <geom type="sphere" size="0.1"/>
+    </body>
+    <body name="ball" pos="1 0 1"><freejoint/><geom type="sphere" size="0.1"/></body>
+  </worldbody>
+</mujoco>"#,
+    );
+    assert!(scene.world.body_index("ball").is_some());
+    assert!(scene.world.body_index("lopsided").is_none());
+    assert_eq!(scene.world.robots.len(), 1);
+    assert_eq!(scene.world.robots[0].model.bodies.len(), 1, "{:?}", scene.world.robots[0].model.bodies);
+    let why = scene.warnings.iter().find(|w| w.contains("'lopsided'")).expect("a warning");
+    assert!(why.contains("kept as a floating robot") && why.contains("centre of mass"), "{why}");
+}
+
+#[test]
+fn the_gymnasium_worlds_lose_what_cannot_collide() {
+    // inverted_pendulum.xml: every geom contype 0, conaffinity 1: nothing collides, the rail is no body
+    let mjcf = fixtures().join("gymnasium/inverted_pendulum.xml");
+    let scene = scene::load_mjcf_world(&mjcf).unwrap();
+    assert!(scene.world.bodies.is_empty(), "{:?}", scene.world.bodies.iter().map(|b| &b.name).collect::<Vec<_>>());
+    let links = &scene.world.contacts().links.colliders;
+    assert!(links.is_empty(), "{links:?}");
+    // ant.xml: the floor a fixed body, not a robot link; the ant's geoms (conaffinity 0) touch the floor only
+    let scene = scene::load_mjcf_world(&fixtures().join("gymnasium/ant.xml")).unwrap();
+    assert!(body(&scene, "floor").fixed);
+    let robot = &scene.world.robots[0];
+    assert!(robot.model.geometries.iter().all(|g| g.link != "world"));
+    assert!(robot.model.geometries.iter().filter(|g| g.role == GeometryRole::Collision).count() > 10);
+}
+
+#[test]
+fn leave_out_names_only_childless_free_bodies() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("two.xml"),
+        r#"<mujoco><worldbody>
+  <body name="arm"><joint type="hinge"/><geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/></body>
+  <body name="ball" pos="1 0 1"><freejoint/><geom type="sphere" size="0.1"/></body>
+</worldbody></mujoco>"#,
+    )
+    .unwrap();
+    let scene_text = |leave_out: &str| {
+        format!("version = 1\n[[robot]]\nname = \"r\"\nmjcf = \"two.xml\"\nleave_out = {leave_out}\n")
+    };
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, scene_text("[\"world\", \"arm\"]")).unwrap();
+    let e = scene::load(&path).unwrap_err().to_string();
+    eprintln!("{e}");
+    assert!(e.contains("scene.toml:5:") && e.contains("robot[0].leave_out"), "{e}");
+    assert!(e.contains("cannot leave out body 'arm'") && e.contains("'ball'"), "{e}");
+    std::fs::write(&path, scene_text("[\"world\", \"ball\"]")).unwrap();
+    let scene = scene::load(&path).unwrap();
+    let model = &scene.world.robots[0].model;
+    assert_eq!(model.bodies.len(), 1, "the ball is left out");
+    assert_eq!(model.bodies[0].name, "arm");
+}
