@@ -237,3 +237,99 @@ fn leave_out_names_only_childless_free_bodies() {
     assert_eq!(model.bodies.len(), 1, "the ball is left out");
     assert_eq!(model.bodies[0].name, "arm");
 }
+
+/// `fixtures/mjcf/keyframe/keys.json` (`tools/mjcf_keyframe_fixtures.py`): MuJoCo's state at each key.
+fn keys() -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(fixtures().join("keyframe/keys.json")).unwrap()).unwrap()
+}
+
+fn numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn a_keyframe_starts_the_world_where_mujoco_puts_it() {
+    use tumble::multibody::mjcf::{load_mjcf_leaving_out, LeaveOut};
+    let path = fixtures().join("keyframe/keys.xml");
+    let expected = &keys()["keys"]["spin"];
+    let scene = scene::load_mjcf_world_from(&path, Some("spin")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.warnings.iter().any(|w| w.contains("time=\"1.5\"") && w.contains("starts at t = 0")));
+    // the free box, a scene body: its centre of mass, frame and velocities as mj_forward has them
+    let b = body(&scene, "box");
+    let q = b.orientation_user();
+    let xquat = numbers(&expected["box_xquat"]);
+    let sign = if q.w * xquat[0] < 0.0 { -1.0 } else { 1.0 };
+    let errors = [
+        max_diff(&b.state.position.to_array(), &numbers(&expected["box_xipos"])),
+        max_diff(&[sign * q.w, sign * q.x, sign * q.y, sign * q.z], &xquat),
+        max_diff(&b.state.velocity.to_array(), &numbers(&expected["box_linear_world"])),
+        max_diff(&b.state.omega_world().to_array(), &numbers(&expected["box_angular_world"])),
+    ];
+    eprintln!("box at the key 'spin': position, orientation, velocity, angular velocity off by {errors:?}");
+    assert!(errors.iter().all(|&e| e < 1e-14), "{errors:?}");
+    // the tree, a robot without the box: its state back in MuJoCo's layout is the key's
+    let robot = &scene.world.robots[0];
+    let split =
+        load_mjcf_leaving_out(&path, MjcfOptions::default(), &LeaveOut { world: true, bodies: vec!["box".into()] })
+            .unwrap();
+    let (qpos, qvel) = split.layout.state_to_mujoco(robot.q(), robot.v()).unwrap();
+    let (qpos_err, qvel_err) =
+        (max_diff(&qpos, &numbers(&expected["qpos"])[7..]), max_diff(&qvel, &numbers(&expected["qvel"])[6..]));
+    eprintln!("robot at the key: qpos off by {qpos_err:.1e}, qvel by {qvel_err:.1e}");
+    assert!(qpos_err < 1e-15 && qvel_err < 1e-14, "{qpos_err} {qvel_err}");
+    let ctrl: Vec<f64> = robot.actuators.iter().map(|a| a.ctrl).collect();
+    assert_eq!(ctrl, numbers(&expected["ctrl"]));
+}
+
+#[test]
+fn a_scene_robot_starts_from_a_keyframe_by_name_or_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    let keys = keys();
+    for (key, given) in [("spin", "\"spin\""), ("1", "\"1\"")] {
+        let text = format!(
+            "version = 1\n[[robot]]\nname = \"k\"\nmjcf = {:?}\nkeyframe = {given}\n",
+            fixtures().join("keyframe/keys.xml").display().to_string()
+        );
+        std::fs::write(&path, text).unwrap();
+        let scene = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        // the whole file is the robot here (the box one of its two free roots)
+        let mjcf = load_mjcf(&fixtures().join("keyframe/keys.xml"), MjcfOptions::default()).unwrap();
+        let robot = &scene.world.robots[0];
+        let (qpos, qvel) = mjcf.layout.state_to_mujoco(robot.q(), robot.v()).unwrap();
+        let expected = &keys["keys"][key];
+        assert!(max_diff(&qpos, &numbers(&expected["qpos"])) < 1e-15, "{key}: {qpos:?}");
+        assert!(max_diff(&qvel, &numbers(&expected["qvel"])) < 1e-14, "{key}");
+        let ctrl: Vec<f64> = robot.actuators.iter().map(|a| a.ctrl).collect();
+        assert_eq!(ctrl, numbers(&expected["ctrl"]), "{key}");
+    }
+}
+
+#[test]
+fn bad_keyframes_are_errors_that_say_where_and_what() {
+    let path = fixtures().join("keyframe/keys.xml");
+    let e = scene::load_mjcf_world_from(&path, Some("jump")).unwrap_err().to_string();
+    assert!(e.contains("no keyframe 'jump' (keys: 'spin', 1 (unnamed))"), "{e}");
+    // in a scene: at the key, with the file's keys
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("scene.toml");
+    let text =
+        format!("version = 1\n[[robot]]\nname = \"k\"\nmjcf = {:?}\nkeyframe = \"jump\"\n", path.display().to_string());
+    std::fs::write(&scene_path, text).unwrap();
+    let e = scene::load(&scene_path).unwrap_err().to_string();
+    assert!(e.contains("scene.toml:5:") && e.contains("robot[0].keyframe") && e.contains("'spin'"), "{e}");
+    // a qpos of the wrong size, at its attribute
+    let bad = dir.path().join("bad.xml");
+    std::fs::write(
+        &bad,
+        "<mujoco>\n<worldbody><body><joint type=\"hinge\"/><geom size=\"0.1\"/></body></worldbody>\n<keyframe>\n  <key name=\"k\" qpos=\"0 1\"/>\n</keyframe>\n</mujoco>\n",
+    )
+    .unwrap();
+    let e = scene::load_mjcf_world(&bad).unwrap_err().to_string();
+    assert!(e.contains("bad.xml:4:") && e.contains("<key qpos>") && e.contains("expected 1 numbers"), "{e}");
+}

@@ -32,7 +32,11 @@ const CENTROID_TOLERANCE: f64 = 1e-9;
 
 /// The scene of [`super::load_mjcf_world`] as JSON scene text (the MJCF file named by its
 /// absolute path), and the warnings of reading the file's options and worldbody.
-pub fn mjcf_world_text(path: &Path) -> Result<(String, Vec<String>), SceneError> {
+///
+/// `keyframe`: the name (or an unnamed key's index) of a `<keyframe><key>` to start from: its
+/// `qpos`/`qvel` place the free bodies and the robot (written as the robot's `q` and `v` by joint),
+/// its `ctrl` drives the actuators (`ctrl` by actuator).
+pub fn mjcf_world_text(path: &Path, keyframe: Option<&str>) -> Result<(String, Vec<String>), SceneError> {
     let origin = path.display().to_string();
     let mjcf = load_mjcf(path, MjcfOptions::default()).map_err(|e| SceneError::file(&origin, e.to_string()))?;
     let mut warnings = Vec::new();
@@ -48,11 +52,19 @@ pub fn mjcf_world_text(path: &Path) -> Result<(String, Vec<String>), SceneError>
         }
     };
     let world = World::read(&mjcf, &origin)?;
-    let qpos0 = mjcf.layout.qpos0();
-    let (q, v) = mjcf
-        .layout
-        .state_from_mujoco(&qpos0, &vec![0.0; mjcf.model.nv()])
-        .map_err(|e| SceneError::file(&origin, e.to_string()))?;
+    let key = match keyframe {
+        Some(name) => Some(mjcf.keyframe(name).map_err(|why| SceneError::file(&origin, why))?),
+        None => None,
+    };
+    let (qpos, qvel) = match key {
+        Some(k) => (k.qpos.clone(), k.qvel.clone()),
+        None => (mjcf.layout.qpos0(), vec![0.0; mjcf.model.nv()]),
+    };
+    if let Some(k) = key.filter(|k| k.time != 0.0) {
+        warnings
+            .push(format!("{}: <key time=\"{}\">: the run starts at t = 0 (the key's time is not used)", k.at, k.time));
+    }
+    let (q, v) = mjcf.layout.state_from_mujoco(&qpos, &qvel).map_err(|e| SceneError::file(&origin, e.to_string()))?;
     let robot_name: String =
         mjcf.model.name.chars().map(|c| if c == '/' || c.is_whitespace() { '_' } else { c }).collect();
     let robot_name = if robot_name.is_empty() { "model".to_string() } else { robot_name };
@@ -166,6 +178,24 @@ pub fn mjcf_world_text(path: &Path) -> Result<(String, Vec<String>), SceneError>
         let mut robot = json!({ "name": robot_name, "mjcf": file, "leave_out": leave_out });
         if self_collision {
             robot["self_collision"] = json!(true);
+        }
+        if let Some(k) = key {
+            // the key's state of the robot's joints (tumble's coordinates) and its controls
+            let (mut q_table, mut v_table) = (serde_json::Map::new(), serde_json::Map::new());
+            for b in mjcf.model.bodies.iter().filter(|b| !leave_out.contains(&b.name)) {
+                let j = &b.joint;
+                let (qs, vs) = (&q[j.q_index..j.q_index + j.kind.nq()], &v[j.v_index..j.v_index + j.kind.nv()]);
+                let value = |x: &[f64]| if x.len() == 1 { json!(x[0]) } else { json!(x) };
+                q_table.insert(j.name.clone(), value(qs));
+                v_table.insert(j.name.clone(), value(vs));
+            }
+            robot["q"] = Value::Object(q_table);
+            robot["v"] = Value::Object(v_table);
+            if !mjcf.actuators.is_empty() {
+                let ctrl: serde_json::Map<String, Value> =
+                    mjcf.actuators.iter().zip(&k.ctrl).map(|(a, u)| (a.name.clone(), json!(u))).collect();
+                robot["ctrl"] = Value::Object(ctrl);
+            }
         }
         // a robot has one friction for all its links: the geoms' when they agree
         let link_frictions: Vec<Option<f64>> =

@@ -127,8 +127,15 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// without child bodies as moving bodies, and the rest of the tree as one robot (`[[robot]]
 /// mjcf`), its actuators at `ctrl = 0` (module `mjcf_world`).
 pub fn load_mjcf_world(path: &Path) -> Result<Scene, SceneError> {
+    load_mjcf_world_from(path, None)
+}
+
+/// [`load_mjcf_world`] from the state and controls of the file's `<keyframe><key>` named
+/// `keyframe` (or an unnamed key's index), `None`: from `qpos0` at rest (`tumble run X.xml
+/// --keyframe NAME`).
+pub fn load_mjcf_world_from(path: &Path, keyframe: Option<&str>) -> Result<Scene, SceneError> {
     let origin = path.display().to_string();
-    let (text, mut warnings) = mjcf_world_text(path)?;
+    let (text, mut warnings) = mjcf_world_text(path, keyframe)?;
     let mut scene = from_str(&text, &origin, Format::Json)?;
     warnings.append(&mut scene.warnings);
     scene.warnings = warnings;

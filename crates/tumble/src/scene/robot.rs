@@ -105,11 +105,26 @@ impl RobotReader<'_, '_> {
         let position = self.position(doc)?;
         let orientation = self.orientation(doc)?;
         let mut q = model.neutral_configuration();
+        let mut v0 = vec![0.0; model.nv()];
         if let Some(m) = &mjcf {
             // MuJoCo's qpos0: a free root where the file puts its body, hinges and slides at `ref`
             // (`q = 0`); `position` and `orientation` move a free root, or place a fixed one
-            let qpos0 = m.layout.qpos0();
-            q = m.layout.state_from_mujoco(&qpos0, &vec![0.0; model.nv()]).map_err(|e| self.mjcf_err(doc, e))?.0;
+            let (qpos, qvel) = match self.key(doc, m)? {
+                Some(key) => {
+                    if key.time != 0.0 {
+                        let span = doc.keyframe.as_ref().and_then(|l| l.span.as_ref());
+                        let text = format!(
+                            "{}: <key time=\"{}\">: the run starts at t = 0 (the key's time is not used)",
+                            key.at,
+                            num(key.time)
+                        );
+                        self.warnings.push(self.src.warning(span, &self.at("keyframe"), &text));
+                    }
+                    (key.qpos.clone(), key.qvel.clone())
+                }
+                None => (m.layout.qpos0(), vec![0.0; model.nv()]),
+            };
+            (q, v0) = m.layout.state_from_mujoco(&qpos, &qvel).map_err(|e| self.mjcf_err(doc, e))?;
             if floating {
                 if doc.position.is_some() {
                     q[0..3].copy_from_slice(&position.to_array());
@@ -146,7 +161,7 @@ impl RobotReader<'_, '_> {
         if let Some(lock) = &doc.lock {
             (model, q) = self.lock(lock, &model, &q)?;
         }
-        let mut v = vec![0.0; model.nv()];
+        let mut v = v0;
         if let Some(table) = &doc.v {
             for (joint, value) in &table.value.0 {
                 let j = self.joint(&model, "v", joint, value.span.as_ref().or(table.span.as_ref()))?;
@@ -272,7 +287,10 @@ impl RobotReader<'_, '_> {
     /// root body floats); the URDF-only keys are refused beside it.
     fn mjcf(&mut self, doc: &RobotDoc) -> Result<Option<Mjcf>, SceneError> {
         let Some(file) = &doc.mjcf else {
-            for (key, span) in [("leave_out", doc.leave_out.as_ref().map(|l| &l.span))] {
+            for (key, span) in [
+                ("leave_out", doc.leave_out.as_ref().map(|l| &l.span)),
+                ("keyframe", doc.keyframe.as_ref().map(|l| &l.span)),
+            ] {
                 if let Some(span) = span {
                     return Err(self.src.error(span.as_ref(), self.at(key), "applies to an MJCF robot (`mjcf = ...`)"));
                 }
@@ -330,6 +348,28 @@ impl RobotReader<'_, '_> {
         Ok(Some(mjcf))
     }
 
+    /// `keyframe`: the MJCF file's key of that name (or index), `None` when not given.
+    fn key<'m>(&self, doc: &RobotDoc, m: &'m Mjcf) -> Result<Option<&'m crate::multibody::mjcf::MjcfKey>, SceneError> {
+        let Some(name) = &doc.keyframe else { return Ok(None) };
+        if let Some(l) = doc.leave_out.as_ref().filter(|l| l.value.iter().any(|e| e.value != "world")) {
+            return Err(self
+                .err(
+                    "keyframe",
+                    name,
+                    "a key's qpos is the whole file's: it cannot start a robot that leaves out free bodies",
+                )
+                .hint(format!(
+                    "give the state by `q` and `v`, or leave out only \"world\" (leave_out at {})",
+                    self.at("leave_out")
+                ))
+                .got(format!("{:?}", l.value.iter().map(|e| e.value.as_str()).collect::<Vec<_>>())));
+        }
+        m.keyframe(&name.value).map(Some).map_err(|why| {
+            let file = doc.mjcf.as_ref().map_or("", |f| f.value.as_str());
+            self.err("keyframe", name, format!("{file}: {why}")).got(format!("\"{}\"", name.value))
+        })
+    }
+
     fn mjcf_err(&self, doc: &RobotDoc, e: impl std::fmt::Display) -> SceneError {
         let span = doc.mjcf.as_ref().and_then(|l| l.span.as_ref()).or(self.span);
         self.src.error(span, self.at("mjcf"), e.to_string())
@@ -349,7 +389,10 @@ impl RobotReader<'_, '_> {
         model: &MultibodyModel,
         control: &mut Control,
     ) -> Result<Vec<crate::world::ActuatorDrive>, SceneError> {
-        let mut ctrl = vec![0.0; m.actuators.len()];
+        let mut ctrl = match self.key(doc, m)? {
+            Some(key) => key.ctrl.clone(),
+            None => vec![0.0; m.actuators.len()],
+        };
         let names: Vec<&str> = m.actuators.iter().map(|a| a.name.as_str()).collect();
         if let Some(c) = &doc.ctrl {
             match &c.value {

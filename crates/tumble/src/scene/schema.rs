@@ -312,6 +312,9 @@ pub struct RobotDoc {
     /// and bodies with a free joint and no child bodies, by name (`tumble run X.xml` makes those
     /// scene bodies).
     pub leave_out: Option<Loc<Vec<Loc<String>>>>,
+    /// The MJCF file's `<keyframe><key>` to start from (by name, or an unnamed key's index): its
+    /// state and controls, under what `q`, `v`, `ctrl`, `position` and `orientation` give.
+    pub keyframe: Option<Loc<String>>,
     /// `"fixed"` (default) or `"floating"`.
     pub base: Option<Loc<String>>,
     /// Root link frame's origin, world frame (m).

@@ -179,7 +179,13 @@ pub(super) fn build_leaving_out(
             actuators.len()
         ));
     }
-    Ok(Mjcf { model, option, layout, actuators, excludes, bodies, free_bodies, filter })
+    // a key's qpos is the whole file's: none are read when free bodies are left out
+    let keyframes = if leave_out.bodies.is_empty() {
+        super::keyframe::read_keyframes(root, &model, &layout, actuators.len())?
+    } else {
+        Vec::new()
+    };
+    Ok(Mjcf { model, option, layout, actuators, excludes, bodies, free_bodies, filter, keyframes })
 }
 
 /// A `<fixed>` tendon that exerts nothing (no limit, spring, damping, friction or armature; no

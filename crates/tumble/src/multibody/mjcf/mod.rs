@@ -28,6 +28,7 @@ mod attrs;
 mod build;
 mod defaults;
 pub mod filter;
+mod keyframe;
 pub mod layout;
 mod mesh_inertia;
 mod pose;
@@ -195,6 +196,52 @@ pub struct Mjcf {
     pub free_bodies: Vec<String>,
     /// MuJoCo's contact filter of the model's geometries ([`filter`]), one entry per geometry.
     pub filter: ContactFilter,
+    /// `<keyframe><key>` states, in file order (none read when free bodies are left out: their
+    /// `qpos` is the whole file's).
+    pub keyframes: Vec<MjcfKey>,
+}
+
+/// A `<keyframe><key>`: a state in MuJoCo's layout, complete (what the key does not give is
+/// MuJoCo's default: `qpos0`, zero velocities and controls).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MjcfKey {
+    /// Its `name` (`None`: unnamed, chosen by its index).
+    pub name: Option<String>,
+    /// `time` (s).
+    pub time: f64,
+    /// `qpos` (nq; ball and free joints' quaternions normalised), `qvel` (nv), `ctrl` (one per
+    /// actuator).
+    pub qpos: Vec<f64>,
+    pub qvel: Vec<f64>,
+    pub ctrl: Vec<f64>,
+    /// `file:line:col` of the element.
+    pub at: String,
+}
+
+impl Mjcf {
+    /// The key named `name`, or the unnamed one whose index it is; else an error that lists the
+    /// keys.
+    pub fn keyframe(&self, name: &str) -> Result<&MjcfKey, String> {
+        if let Some(k) = self.keyframes.iter().find(|k| k.name.as_deref() == Some(name)) {
+            return Ok(k);
+        }
+        if let Some(k) = name.parse::<usize>().ok().and_then(|i| self.keyframes.get(i)) {
+            if k.name.is_none() {
+                return Ok(k);
+            }
+        }
+        let names: Vec<String> = self
+            .keyframes
+            .iter()
+            .enumerate()
+            .map(|(i, k)| k.name.as_ref().map_or(format!("{i} (unnamed)"), |n| format!("'{n}'")))
+            .collect();
+        Err(if names.is_empty() {
+            format!("no keyframe '{name}': the file has no <keyframe><key>")
+        } else {
+            format!("no keyframe '{name}' (keys: {})", names.join(", "))
+        })
+    }
 }
 
 /// What [`load_mjcf_leaving_out`] leaves out of the tree (`[[robot]] leave_out`): the world's
