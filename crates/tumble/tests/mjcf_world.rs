@@ -333,3 +333,96 @@ fn bad_keyframes_are_errors_that_say_where_and_what() {
     let e = scene::load_mjcf_world(&bad).unwrap_err().to_string();
     assert!(e.contains("bad.xml:4:") && e.contains("<key qpos>") && e.contains("expected 1 numbers"), "{e}");
 }
+
+#[test]
+fn the_world_of_a_file_filters_contacts_as_mujoco_does() {
+    // every geom of the fixtures overlaps every other at the origin: MuJoCo's contacts are the
+    // pairs its filter allows; tumble's world of the same file must allow the same, except the
+    // robot's own link pairs touching in the initial pose, which self-collision leaves out (with a
+    // warning naming each)
+    let expected: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixtures().join("filter/filter.json")).unwrap()).unwrap();
+    for model in ["chain", "chain_exclude", "chain_masks"] {
+        let scene = scene::load_mjcf_world(&fixtures().join(format!("filter/{model}.xml"))).unwrap();
+        let w = &scene.world;
+        let links = &w.contacts().links.colliders;
+        // a geom's side in tumble's world: a scene body, or a link collider (`None`: no shape, a
+        // geom that collides with nothing of the file)
+        let side = |geom: &str| -> Option<Result<usize, usize>> {
+            match geom {
+                "ground" | "f" | "f2" => w.body_index(if geom == "ground" { "ground" } else { "F" }).map(Ok),
+                link => w.link_shapes_named(&format!("{model}/{}", link.to_uppercase())).map(|l| Err(l[0])),
+            }
+        };
+        let touching = |a: usize, b: usize| {
+            let (x, y) = (&links.links()[a].name, &links.links()[b].name);
+            scene.warnings.iter().any(|t| {
+                (t.contains(&format!("`{x}` and `{y}`")) || t.contains(&format!("`{y}` and `{x}`")))
+                    && t.contains("touch")
+            })
+        };
+        let geoms = ["ground", "a", "w", "c", "d", "f", "f2"];
+        let mujoco: Vec<[String; 2]> = serde_json::from_value(expected[model].clone()).unwrap();
+        for (k, a) in geoms.iter().enumerate() {
+            for b in &geoms[k + 1..] {
+                let mut pair = [a.to_string(), b.to_string()];
+                pair.sort();
+                let in_mujoco = mujoco.contains(&pair);
+                let (Some(sa), Some(sb)) = (side(a), side(b)) else {
+                    assert!(!in_mujoco, "{model}: {a}–{b} collide in MuJoCo, but one of them is no shape");
+                    continue;
+                };
+                let tumble = match (sa, sb) {
+                    (Ok(i), Ok(j)) => {
+                        i != j && !(w.bodies[i].fixed && w.bodies[j].fixed) && !w.contacts().is_excluded(i, j)
+                    }
+                    (Ok(i), Err(l)) | (Err(l), Ok(i)) => links.links()[l].enabled && !links.is_body_excluded(l, i),
+                    (Err(l), Err(m)) => links.pair_allowed(l, m) || (in_mujoco && touching(l, m)),
+                };
+                assert_eq!(tumble, in_mujoco, "{model}: {a}–{b}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_robots_self_collision_follows_the_files_filter() {
+    // a chain of four links apart from each other: A–C are not parent and child, so they collide
+    // unless their masks or an <exclude> say otherwise; A–B and B–C never (parent and child); A–D
+    // always (so the robot's self-collision is on)
+    let chain = |c_masks: &str, extra: &str| {
+        format!(
+            r#"<mujoco model="arm"><worldbody>
+  <geom name="floor" type="plane" size="5 5 0.1" pos="0 0 -1" conaffinity="3"/>
+  <body name="A"><joint type="hinge"/><geom type="sphere" size="0.1"/>
+    <body name="B" pos="0.5 0 0"><joint type="hinge"/><geom type="sphere" size="0.1"/>
+      <body name="C" pos="0.5 0 0"><joint type="hinge"/><geom type="sphere" size="0.1" {c_masks}/>
+        <body name="D" pos="0.5 0 0"><joint type="hinge"/><geom type="sphere" size="0.1"/></body>
+      </body>
+    </body>
+  </body>
+</worldbody>{extra}</mujoco>"#
+        )
+    };
+    for (c_masks, extra, a_c) in [
+        ("", "", Some(true)),
+        // (2 & 1) | (1 & 1) ≠ 0
+        (r#"contype="2" conaffinity="1""#, "", Some(true)),
+        // (1 & 0) | (2 & 1) = 0 with A, (2 & 3) ≠ 0 with the floor
+        (r#"contype="2" conaffinity="0""#, "", Some(false)),
+        ("", r#"<contact><exclude body1="A" body2="C"/></contact>"#, Some(false)),
+        // 4 meets nothing: C is no collision shape at all
+        (r#"contype="4" conaffinity="4""#, "", None),
+    ] {
+        let (_dir, scene) = world(&chain(c_masks, extra));
+        let links = &scene.world.contacts().links.colliders;
+        let id = |l: &str| scene.world.link_shapes_named(&format!("arm/{l}")).map(|l| l[0]);
+        let (a, b) = (id("A").unwrap(), id("B").unwrap());
+        assert_eq!(id("C").map(|c| links.pair_allowed(a, c)), a_c, "{c_masks} {extra}");
+        assert!(!links.pair_allowed(a, b), "parent and child");
+        assert!(links.pair_allowed(a, id("D").unwrap()));
+        if let Some(c) = id("C") {
+            assert!(!links.pair_allowed(b, c), "parent and child");
+        }
+    }
+}
