@@ -43,23 +43,9 @@ fn body<'a>(scene: &'a Scene, name: &str) -> &'a tumble::body::RigidBody {
 
 #[test]
 fn a_free_box_comes_to_rest_on_a_rotated_worldbody_box() {
-    let (_dir, mut scene) = world(
-        r#"<mujoco model="drop">
-  <option timestep="0.001"/>
-  <worldbody>
-    <geom name="floor" type="plane" size="5 5 0.1"/>
-    <geom name="table" type="box" size="0.5 0.5 0.1" pos="0 0 0.3" euler="0 0 30"/>
-    <body name="cube" pos="0.1 0 0.6" euler="0 0 10">
-      <freejoint/>
-      <geom type="box" size="0.05 0.05 0.05" density="500"/>
-    </body>
-    <body name="stick" pos="2 0 0.5">
-      <freejoint/>
-      <geom type="capsule" fromto="-0.2 0 0 0.2 0 0" size="0.03"/>
-    </body>
-  </worldbody>
-</mujoco>"#,
-    );
+    // the example of docs/mjcf.md
+    let drop = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mjcf_drop.xml");
+    let mut scene = scene::load_mjcf_world(&drop).unwrap();
     assert_eq!(scene.world.robots.len(), 0, "both free bodies are scene bodies");
     assert!(body(&scene, "table").fixed);
     // the box's mass from its density: 500 kg/m³ × 0.1³ m³
@@ -78,6 +64,14 @@ fn a_free_box_comes_to_rest_on_a_rotated_worldbody_box() {
     // the body keeps the MJCF body's axes, the capsule's axis (`fromto` along body x) lying along world x
     let axis = stick.orientation_user() * tumble::math::DVec3::X;
     assert!(axis.x.abs() > 0.999, "axis {axis:?}");
+    // tossed by the key "toss" (1.0 m/s across, 1 m/s up, 6 rad/s about z): it lands on the table,
+    // slides and stops on it
+    let mut scene = scene::load_mjcf_world_from(&drop, Some("toss")).unwrap();
+    assert_eq!(body(&scene, "cube").state.velocity.to_array(), [1.0, 0.2, 1.0]);
+    run(&mut scene, 1.5);
+    let cube = body(&scene, "cube");
+    eprintln!("tossed cube at {:?}, |v| = {:.2e}", cube.state.position.to_array(), cube.state.velocity.length());
+    assert!((cube.state.position.z - 0.45).abs() < 5e-4 && cube.state.velocity.length() < 1e-3);
 }
 
 #[test]
