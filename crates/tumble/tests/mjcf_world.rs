@@ -420,3 +420,16 @@ fn a_robots_self_collision_follows_the_files_filter() {
         }
     }
 }
+
+#[test]
+fn a_geom_that_collides_with_nothing_needs_no_collision_shape() {
+    // an ellipsoid (no collision shape in tumble) whose contype meets no conaffinity: no error
+    let (_dir, scene) = world(
+        r#"<mujoco><worldbody>
+  <geom name="floor" type="plane" size="5 5 0.1"/>
+  <geom name="egg" type="ellipsoid" size="0.1 0.2 0.3" pos="0 0 1" contype="8" conaffinity="0"/>
+  <body name="ball" pos="1 0 1"><freejoint/><geom type="sphere" size="0.1"/></body>
+</worldbody></mujoco>"#,
+    );
+    assert!(scene.world.body_index("egg").is_none() && scene.world.body_index("ball").is_some());
+}

@@ -246,15 +246,23 @@ struct World<'m> {
 
 impl<'m> World<'m> {
     fn read(mjcf: &'m Mjcf, origin: &str) -> Result<Self, SceneError> {
-        let shapes = collision_shapes(&mjcf.model, origin).map_err(|e| SceneError::file(origin, e.to_string()))?;
         let geometries = &mjcf.model.geometries;
-        let indices: Vec<usize> =
+        let candidates: Vec<usize> =
             (0..geometries.len()).filter(|&g| geometries[g].role == GeometryRole::Collision).collect();
-        let alive = |a: usize| indices.iter().any(|&b| b != a && mjcf.filter.may_collide(a, b));
+        let alive = |a: usize| candidates.iter().any(|&b| b != a && mjcf.filter.may_collide(a, b));
+        let indices: Vec<usize> = candidates.iter().copied().filter(|&a| alive(a)).collect();
+        // the shapes of the geoms that can collide (one that cannot needs none, and may have none:
+        // an ellipsoid)
+        let mut model = mjcf.model.clone();
+        for (g, geometry) in model.geometries.iter_mut().enumerate() {
+            if !indices.contains(&g) {
+                geometry.role = GeometryRole::Visual;
+            }
+        }
+        let shapes = collision_shapes(&model, origin).map_err(|e| SceneError::file(origin, e.to_string()))?;
         let (fixed, moving) = shapes
             .into_iter()
             .zip(&indices)
-            .filter(|(_, &index)| alive(index))
             .map(|(shape, &index)| Geom { shape, geom: &geometries[index], index })
             .partition(|g| g.shape.body.is_none());
         Ok(World { fixed, moving })

@@ -161,7 +161,8 @@ impl RobotReader<'_, '_> {
         if let Some(lock) = &doc.lock {
             (model, q) = self.lock(lock, &model, &q)?;
         }
-        let mut v = v0;
+        // (a keyframe's velocities are an MJCF robot's, which `lock` is refused for)
+        let mut v = if doc.lock.is_some() { vec![0.0; model.nv()] } else { v0 };
         if let Some(table) = &doc.v {
             for (joint, value) in &table.value.0 {
                 let j = self.joint(&model, "v", joint, value.span.as_ref().or(table.span.as_ref()))?;
