@@ -139,6 +139,11 @@ pub struct RunArgs {
     #[arg(long, value_name = "NAME", value_parser = parse_integrator)]
     pub integrator: Option<Integrator>,
 
+    /// MJCF files (.xml) only: start from the file's <keyframe><key name="NAME"> (or an unnamed
+    /// key's index): its qpos, qvel and ctrl. In a scene, `keyframe = "NAME"` under [[robot]].
+    #[arg(long, value_name = "NAME")]
+    pub keyframe: Option<String>,
+
     /// Write every K-th step to the trajectory (overrides [world] sample_every); the first and the
     /// last state are always written.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]

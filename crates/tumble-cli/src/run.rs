@@ -96,9 +96,19 @@ impl Plan {
                 }
             }
         }
-        let mut scene = match &args.scene {
-            Some(path) => scene::load(path).map_err(Failure::bad_input)?,
-            None => scene::demo(),
+        let mjcf = |p: &std::path::Path| p.extension().is_some_and(|e| e == "xml" || e == "mjcf");
+        let mut scene = match (&args.scene, &args.keyframe) {
+            (Some(path), Some(key)) if mjcf(path) => {
+                scene::load_mjcf_world_from(path, Some(key)).map_err(Failure::bad_input)?
+            }
+            (_, Some(key)) => {
+                return Err(Failure::bad_input(format!(
+                    "--keyframe {key}: applies to an MJCF file (.xml); in a scene, give `keyframe = \"{key}\"` under \
+                     its [[robot]] (`mjcf = ...`)"
+                )))
+            }
+            (Some(path), None) => scene::load(path).map_err(Failure::bad_input)?,
+            (None, None) => scene::demo(),
         };
         apply_overrides(&mut scene, args)?;
         let wall_time_limit = match args.max_wall_time {

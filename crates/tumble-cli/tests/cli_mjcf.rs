@@ -175,3 +175,33 @@ fn run_refuses_a_broken_mjcf_file_with_its_position() {
     assert_eq!(output.status.code(), Some(2), "{err}");
     assert!(err.contains("bad.xml:3:"), "{err}");
 }
+
+#[test]
+fn run_starts_an_mjcf_world_from_a_keyframe() {
+    let dir = tempfile::tempdir().unwrap();
+    let keys = mjcf().join("keyframe/keys.xml");
+    let out = dir.path().join("keys.csv");
+    let output = tumble(dir.path())
+        .args(["run", keys.to_str().unwrap(), "--keyframe", "spin", "--duration", "0.01", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{err}");
+    // the free box's first row: its centre of mass where the key puts it, its velocity
+    let csv = fs::read_to_string(&out).unwrap();
+    let first: Vec<f64> =
+        csv.lines().find(|l| l.contains(",box,")).unwrap().split(',').skip(2).map(|x| x.parse().unwrap()).collect();
+    assert_eq!(first[..3], [1.2, -0.3, 0.8]);
+    assert!((first[7] - 0.5).abs() < 1e-12 && (first[8] + 1.0).abs() < 1e-12, "{first:?}");
+    // an unknown key: exit 2, the keys listed
+    let (code, _, err) = run(&["run", keys.to_str().unwrap(), "--keyframe", "jump", "--quiet"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("no keyframe 'jump' (keys: 'spin', 1 (unnamed))"), "{err}");
+    // on a scene file: exit 2, pointing at the scene key
+    let scene = dir.path().join("s.toml");
+    fs::write(&scene, "version = 1\n").unwrap();
+    let (code, _, err) = run(&["run", scene.to_str().unwrap(), "--keyframe", "spin", "--quiet"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("applies to an MJCF file") && err.contains("keyframe = \"spin\""), "{err}");
+}

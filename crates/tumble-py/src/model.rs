@@ -168,7 +168,7 @@ impl Model {
             return Err(bad(format!("{}: cannot read the MJCF file: no such file", path.display())));
         }
         let absolute = std::path::absolute(&path).unwrap_or(path.clone());
-        let (text, _) = scene::mjcf_world_text(&absolute).map_err(|e| bad(e.to_string()))?;
+        let (text, _) = scene::mjcf_world_text(&absolute, None).map_err(|e| bad(e.to_string()))?;
         Self::build(text, Format::Json, absolute.display().to_string())
     }
 

@@ -209,6 +209,11 @@ impl LinkColliders {
         }
     }
 
+    /// Whether link shape `link` and body `body` are a pair [`exclude_body`](Self::exclude_body) took out.
+    pub fn is_body_excluded(&self, link: usize, body: usize) -> bool {
+        self.excluded_bodies.binary_search(&(link, body)).is_ok()
+    }
+
     /// Takes link shape `link` out of all contact.
     pub fn disable(&mut self, link: usize) {
         self.links[link].enabled = false;

@@ -226,6 +226,11 @@ impl ContactStage {
         }
     }
 
+    /// Whether bodies `i` and `j` are a pair [`exclude_pair`](Self::exclude_pair) took out.
+    pub fn is_excluded(&self, i: usize, j: usize) -> bool {
+        self.excluded.contains(&(i.min(j), i.max(j)))
+    }
+
     /// Switches the timing of the stages on (from zero) or off.
     pub fn set_profiling(&mut self, on: bool) {
         self.profile = on.then(Default::default);

@@ -199,6 +199,8 @@ pub fn placed_inertia(mass: f64, com: DVec3, axes: DMat3, tensor: DMat3) -> Rigi
 pub struct LinkGeometry {
     /// The link (a frame of the model).
     pub link: String,
+    /// The element's `name`, if it has one (MJCF geoms; URDF `<collision name>`).
+    pub name: Option<String>,
     pub role: GeometryRole,
     /// `geometry_X_link`: the geometry frame's placement in the link frame (its `<origin>`).
     pub x_from_link: Xform,

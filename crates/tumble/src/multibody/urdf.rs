@@ -598,6 +598,7 @@ impl<'a, 'input> Parser<'a, 'input> {
             match shape {
                 Ok(shape) => geometries.push(LinkGeometry {
                     link: name.into(),
+                    name: element.attribute("name").map(str::to_string),
                     role,
                     x_from_link,
                     shape,

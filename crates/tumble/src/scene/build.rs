@@ -69,13 +69,13 @@ pub(crate) fn build(src: &Source, doc: SceneDoc) -> Result<Scene, SceneError> {
         prefixes.insert(prefix, (path, span));
     }
 
-    let robots = super::robot::read_robots(src, &doc.robot, &mut names, config.gravity, &mut warnings)?;
+    let (robots, filters) = super::robot::read_robots(src, &doc.robot, &mut names, config.gravity, &mut warnings)?;
     if bodies.is_empty() && robots.is_empty() {
         warnings.push(src.warning(None, "", "the scene has no bodies"));
     }
     let mut world = World::new(config, bodies);
     world.robots = robots;
-    super::robot::robot_collisions(src, &doc.robot, &mut world, &mut warnings)?;
+    super::robot::robot_collisions(src, &doc.robot, &filters, &mut world, &mut warnings)?;
     collision_filters(src, &doc, &mut world)?;
     overlap_warnings(src, &doc, &mut world, &mut warnings)?;
     Ok(Scene { world, origin, warnings })

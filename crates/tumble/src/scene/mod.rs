@@ -15,11 +15,13 @@ mod build;
 mod describe;
 pub mod error;
 mod grid;
+mod mjcf_world;
 mod robot;
 pub mod schema;
 mod shape;
 
 pub use error::{ErrorDetail, LineCol, SceneError};
+pub use mjcf_world::mjcf_world_text;
 
 use crate::world::World;
 use std::io::Read;
@@ -121,79 +123,23 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// An MJCF file as a whole world, as MuJoCo's `simulate` runs it (`tumble run X.xml`): its
-/// `<option>` (`timestep` as `dt`, `gravity`, `integrator`: `Euler` → `semi_implicit_euler`,
-/// `RK4` → `rk4`, the implicit ones → `semi_implicit_euler` with a warning), each plane of its
-/// worldbody a fixed plane body (friction its first coefficient), and the tree as one robot
-/// (`[[robot]] mjcf`), its actuators at `ctrl = 0`.
+/// `<option>` as `[world]`, the geometry fixed to the world as fixed bodies, the free bodies
+/// without child bodies as moving bodies, and the rest of the tree as one robot (`[[robot]]
+/// mjcf`), its actuators at `ctrl = 0` (module `mjcf_world`).
 pub fn load_mjcf_world(path: &Path) -> Result<Scene, SceneError> {
+    load_mjcf_world_from(path, None)
+}
+
+/// [`load_mjcf_world`] from the state and controls of the file's `<keyframe><key>` named
+/// `keyframe` (or an unnamed key's index), `None`: from `qpos0` at rest (`tumble run X.xml
+/// --keyframe NAME`).
+pub fn load_mjcf_world_from(path: &Path, keyframe: Option<&str>) -> Result<Scene, SceneError> {
     let origin = path.display().to_string();
-    let (text, mut warnings) = mjcf_world_text(path)?;
+    let (text, mut warnings) = mjcf_world_text(path, keyframe)?;
     let mut scene = from_str(&text, &origin, Format::Json)?;
     warnings.append(&mut scene.warnings);
     scene.warnings = warnings;
     Ok(scene)
-}
-
-/// The scene of [`load_mjcf_world`] as JSON scene text (the MJCF file named by its absolute
-/// path), and the warnings of reading the file's options and worldbody.
-pub fn mjcf_world_text(path: &Path) -> Result<(String, Vec<String>), SceneError> {
-    use crate::multibody::mjcf::{load_mjcf, MjcfIntegrator, MjcfOptions};
-    use crate::multibody::{GeometryRole, GeometryShape};
-    let origin = path.display().to_string();
-    let mjcf = load_mjcf(path, MjcfOptions::default()).map_err(|e| SceneError::file(&origin, e.to_string()))?;
-    let mut warnings = Vec::new();
-    let integrator = match mjcf.option.integrator {
-        MjcfIntegrator::Euler => "semi_implicit_euler",
-        MjcfIntegrator::Rk4 => "rk4",
-        MjcfIntegrator::Implicit | MjcfIntegrator::ImplicitFast => {
-            warnings.push(format!(
-                "{origin}: option integrator: MuJoCo's implicit integrators are run as semi_implicit_euler (the joints' \
-                 damping explicit)"
-            ));
-            "semi_implicit_euler"
-        }
-    };
-    let mut bodies = Vec::new();
-    for g in mjcf.model.geometries.iter().filter(|g| g.link == "world" && g.role == GeometryRole::Collision) {
-        if !matches!(g.shape, GeometryShape::Plane) {
-            warnings.push(format!(
-                "{origin}:{}: worldbody geom: only planes of the worldbody are read by `tumble run` (this one is not \
-                 simulated)",
-                g.line
-            ));
-            continue;
-        }
-        let x = &g.x_from_link;
-        if !x.e.abs_diff_eq(crate::math::DMat3::IDENTITY, 1e-12) {
-            return Err(SceneError::file(
-                &format!("{origin}:{}", g.line),
-                "worldbody plane: only a plane facing +z is read by `tumble run` yet",
-            ));
-        }
-        let mut body = serde_json::json!({
-            "name": format!("world_plane_{}", bodies.len()),
-            "shape": { "type": "plane" },
-            "fixed": true,
-            "position": [x.r.x, x.r.y, x.r.z],
-        });
-        if let Some(mu) = g.friction {
-            body["friction"] = serde_json::json!(mu);
-        }
-        bodies.push(body);
-    }
-    let name: String = mjcf.model.name.chars().map(|c| if c == '/' || c.is_whitespace() { '_' } else { c }).collect();
-    let name = if name.is_empty() { "model".to_string() } else { name };
-    let doc = serde_json::json!({
-        "version": 1,
-        "world": {
-            "dt": mjcf.option.timestep,
-            "gravity": mjcf.option.gravity.to_array(),
-            "integrator": integrator,
-        },
-        "body": bodies,
-        "robot": [{ "name": name, "mjcf": path.canonicalize().unwrap_or(path.to_path_buf()).display().to_string() }],
-    });
-    Ok((doc.to_string(), warnings))
 }
 
 fn too_large(origin: &str, format: Format, len: u64) -> SceneError {

@@ -21,7 +21,7 @@ use super::error::{names_hint, nearest, num, nums, SceneError, Source};
 use super::schema::{CtrlDoc, DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::math::{DMat3, DQuat, DVec3};
-use crate::multibody::mjcf::{load_mjcf, Mjcf, MjcfOptions};
+use crate::multibody::mjcf::{load_mjcf_leaving_out, ContactFilter, LeaveOut, Mjcf, MjcfOptions};
 use crate::multibody::spatial::Xform;
 use crate::multibody::{
     kept_coordinates, load_urdf, reduced_model, Control, FrameOrigin, JointKind, LockError, Massless, ModelError,
@@ -38,21 +38,25 @@ const BASES: [&str; 2] = ["fixed", "floating"];
 /// Name → (field path, span) of what took it.
 pub(crate) type Taken = HashMap<String, (String, Option<Range<usize>>)>;
 
-/// Reads every `[[robot]]`; `taken` holds the bodies' names and receives the robots'.
+/// Reads every `[[robot]]`; `taken` holds the bodies' names and receives the robots'. Returns the
+/// robots and, for each, the MJCF file's contact filter (`None` for a URDF robot).
 pub(crate) fn read_robots(
     src: &Source,
     entries: &[Loc<Table<RobotDoc>>],
     taken: &mut Taken,
     gravity: DVec3,
     warnings: &mut Vec<String>,
-) -> Result<Vec<Robot>, SceneError> {
+) -> Result<(Vec<Robot>, Vec<Option<ContactFilter>>), SceneError> {
     let mut robots = Vec::with_capacity(entries.len());
+    let mut filters = Vec::with_capacity(entries.len());
     for (i, entry) in entries.iter().enumerate() {
         let path = format!("robot[{i}]");
-        let mut reader = RobotReader { src, path: &path, span: entry.span.as_ref(), warnings, locked: Vec::new() };
+        let mut reader =
+            RobotReader { src, path: &path, span: entry.span.as_ref(), warnings, locked: Vec::new(), filter: None };
         robots.push(reader.read(&entry.value, taken, gravity)?);
+        filters.push(reader.filter.take());
     }
-    Ok(robots)
+    Ok((robots, filters))
 }
 
 struct RobotReader<'r, 'a> {
@@ -62,6 +66,8 @@ struct RobotReader<'r, 'a> {
     warnings: &'r mut Vec<String>,
     /// The joints of `lock` (for the errors of `v`, `torque`, `damping` and `pd` that name one).
     locked: Vec<String>,
+    /// The MJCF file's contact filter.
+    filter: Option<ContactFilter>,
 }
 
 impl RobotReader<'_, '_> {
@@ -99,11 +105,26 @@ impl RobotReader<'_, '_> {
         let position = self.position(doc)?;
         let orientation = self.orientation(doc)?;
         let mut q = model.neutral_configuration();
+        let mut v0 = vec![0.0; model.nv()];
         if let Some(m) = &mjcf {
             // MuJoCo's qpos0: a free root where the file puts its body, hinges and slides at `ref`
             // (`q = 0`); `position` and `orientation` move a free root, or place a fixed one
-            let qpos0 = m.layout.qpos0();
-            q = m.layout.state_from_mujoco(&qpos0, &vec![0.0; model.nv()]).map_err(|e| self.mjcf_err(doc, e))?.0;
+            let (qpos, qvel) = match self.key(doc, m)? {
+                Some(key) => {
+                    if key.time != 0.0 {
+                        let span = doc.keyframe.as_ref().and_then(|l| l.span.as_ref());
+                        let text = format!(
+                            "{}: <key time=\"{}\">: the run starts at t = 0 (the key's time is not used)",
+                            key.at,
+                            num(key.time)
+                        );
+                        self.warnings.push(self.src.warning(span, &self.at("keyframe"), &text));
+                    }
+                    (key.qpos.clone(), key.qvel.clone())
+                }
+                None => (m.layout.qpos0(), vec![0.0; model.nv()]),
+            };
+            (q, v0) = m.layout.state_from_mujoco(&qpos, &qvel).map_err(|e| self.mjcf_err(doc, e))?;
             if floating {
                 if doc.position.is_some() {
                     q[0..3].copy_from_slice(&position.to_array());
@@ -140,7 +161,8 @@ impl RobotReader<'_, '_> {
         if let Some(lock) = &doc.lock {
             (model, q) = self.lock(lock, &model, &q)?;
         }
-        let mut v = vec![0.0; model.nv()];
+        // (a keyframe's velocities are an MJCF robot's, which `lock` is refused for)
+        let mut v = if doc.lock.is_some() { vec![0.0; model.nv()] } else { v0 };
         if let Some(table) = &doc.v {
             for (joint, value) in &table.value.0 {
                 let j = self.joint(&model, "v", joint, value.span.as_ref().or(table.span.as_ref()))?;
@@ -265,7 +287,17 @@ impl RobotReader<'_, '_> {
     /// `mjcf`: the MJCF file read (`None` for a URDF robot). The file decides the base (a free
     /// root body floats); the URDF-only keys are refused beside it.
     fn mjcf(&mut self, doc: &RobotDoc) -> Result<Option<Mjcf>, SceneError> {
-        let Some(file) = &doc.mjcf else { return Ok(None) };
+        let Some(file) = &doc.mjcf else {
+            for (key, span) in [
+                ("leave_out", doc.leave_out.as_ref().map(|l| &l.span)),
+                ("keyframe", doc.keyframe.as_ref().map(|l| &l.span)),
+            ] {
+                if let Some(span) = span {
+                    return Err(self.src.error(span.as_ref(), self.at(key), "applies to an MJCF robot (`mjcf = ...`)"));
+                }
+            }
+            return Ok(None);
+        };
         if let Some(urdf) = &doc.urdf {
             return Err(self
                 .err("urdf", urdf, "a robot is read from one file: both `urdf` and `mjcf` are given")
@@ -295,12 +327,48 @@ impl RobotReader<'_, '_> {
         }
         let scene_dir = Path::new(self.src.origin).parent().unwrap_or(Path::new(""));
         let path = scene_dir.join(&file.value);
-        let mjcf = load_mjcf(&path, MjcfOptions::default()).map_err(|e| self.err("mjcf", file, e.to_string()))?;
+        let mut leave_out = LeaveOut::default();
+        for entry in doc.leave_out.iter().flat_map(|l| &l.value) {
+            if entry.value == "world" {
+                leave_out.world = true;
+            } else {
+                leave_out.bodies.push(entry.value.clone());
+            }
+        }
+        let mjcf = load_mjcf_leaving_out(&path, MjcfOptions::default(), &leave_out).map_err(|e| {
+            match (&doc.leave_out, e.to_string().contains("cannot leave out body")) {
+                (Some(l), true) => self.err("leave_out", l, e.to_string()),
+                _ => self.err("mjcf", file, e.to_string()),
+            }
+        })?;
         // (the reader's remarks name the MJCF file's own line and column)
         for w in &mjcf.model.warnings {
             self.warnings.push(self.src.warning(file.span.as_ref(), &self.at("mjcf"), w));
         }
+        self.filter = Some(mjcf.filter.clone());
         Ok(Some(mjcf))
+    }
+
+    /// `keyframe`: the MJCF file's key of that name (or index), `None` when not given.
+    fn key<'m>(&self, doc: &RobotDoc, m: &'m Mjcf) -> Result<Option<&'m crate::multibody::mjcf::MjcfKey>, SceneError> {
+        let Some(name) = &doc.keyframe else { return Ok(None) };
+        if let Some(l) = doc.leave_out.as_ref().filter(|l| l.value.iter().any(|e| e.value != "world")) {
+            return Err(self
+                .err(
+                    "keyframe",
+                    name,
+                    "a key's qpos is the whole file's: it cannot start a robot that leaves out free bodies",
+                )
+                .hint(format!(
+                    "give the state by `q` and `v`, or leave out only \"world\" (leave_out at {})",
+                    self.at("leave_out")
+                ))
+                .got(format!("{:?}", l.value.iter().map(|e| e.value.as_str()).collect::<Vec<_>>())));
+        }
+        m.keyframe(&name.value).map(Some).map_err(|why| {
+            let file = doc.mjcf.as_ref().map_or("", |f| f.value.as_str());
+            self.err("keyframe", name, format!("{file}: {why}")).got(format!("\"{}\"", name.value))
+        })
     }
 
     fn mjcf_err(&self, doc: &RobotDoc, e: impl std::fmt::Display) -> SceneError {
@@ -322,7 +390,10 @@ impl RobotReader<'_, '_> {
         model: &MultibodyModel,
         control: &mut Control,
     ) -> Result<Vec<crate::world::ActuatorDrive>, SceneError> {
-        let mut ctrl = vec![0.0; m.actuators.len()];
+        let mut ctrl = match self.key(doc, m)? {
+            Some(key) => key.ctrl.clone(),
+            None => vec![0.0; m.actuators.len()],
+        };
         let names: Vec<&str> = m.actuators.iter().map(|a| a.name.as_str()).collect();
         if let Some(c) = &doc.ctrl {
             match &c.value {
@@ -864,6 +935,7 @@ fn quoted(names: &[&str]) -> String {
 pub(crate) fn robot_collisions(
     src: &Source,
     entries: &[Loc<Table<RobotDoc>>],
+    filters: &[Option<ContactFilter>],
     world: &mut crate::world::World,
     warnings: &mut Vec<String>,
 ) -> Result<(), SceneError> {
@@ -900,6 +972,22 @@ pub(crate) fn robot_collisions(
         // with no collision geometry there is nothing to add, but `no_collide`'s names are checked
         let ids = if shapes.is_empty() { Vec::new() } else { world.add_link_shapes(i, &shapes) };
         if !shapes.is_empty() && doc.self_collision.as_ref().is_some_and(|b| b.value) {
+            // an MJCF file's own filter first (contype/conaffinity, parent and child, <exclude>):
+            // the k-th collision geometry is the k-th shape
+            if let Some(filter) = &filters[i] {
+                let model = &world.robots[i].model;
+                let geoms: Vec<usize> = (0..model.geometries.len())
+                    .filter(|&g| model.geometries[g].role == crate::multibody::GeometryRole::Collision)
+                    .collect();
+                let links = &mut world.contact_stage().links.colliders;
+                for a in 0..ids.len() {
+                    for b in a + 1..ids.len() {
+                        if !filter.may_collide(geoms[a], geoms[b]) {
+                            links.exclude_links(ids[a], ids[b]);
+                        }
+                    }
+                }
+            }
             for (a, b) in world.enable_self_collision(i) {
                 warnings.push(src.warning(
                     doc.self_collision.as_ref().and_then(|l| l.span.as_ref()),

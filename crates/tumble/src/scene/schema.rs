@@ -308,6 +308,13 @@ pub struct RobotDoc {
     /// The controls of the MJCF file's actuators, held over the run: one number for every
     /// actuator, or a table by actuator name (the others 0, as MuJoCo starts them).
     pub ctrl: Option<Loc<CtrlDoc>>,
+    /// What of the MJCF file the robot leaves out: `"world"` (the geometry fixed to the world)
+    /// and bodies with a free joint and no child bodies, by name (`tumble run X.xml` makes those
+    /// scene bodies).
+    pub leave_out: Option<Loc<Vec<Loc<String>>>>,
+    /// The MJCF file's `<keyframe><key>` to start from (by name, or an unnamed key's index): its
+    /// state and controls, under what `q`, `v`, `ctrl`, `position` and `orientation` give.
+    pub keyframe: Option<Loc<String>>,
     /// `"fixed"` (default) or `"floating"`.
     pub base: Option<Loc<String>>,
     /// Root link frame's origin, world frame (m).

@@ -2,11 +2,12 @@
 //! the MuJoCo layout; the actuators and contact exclusions recorded.
 
 use super::attrs::{all_zero, View};
-use super::build::{unsupported, Kind, Reader};
+use super::build::{unsupported, GeomRec, Kind, Reader};
+use super::filter::{pair_may_collide, ContactFilter, GeomFilter};
 use super::layout::{LayoutJoint, MujocoLayout};
 use super::pose::Pose;
 use super::xml::El;
-use super::{MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind};
+use super::{LeaveOut, MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind};
 use crate::math::DVec3;
 use crate::multibody::joint::{JointDynamics, JointKind, JointLimits};
 use crate::multibody::model::{FrameOrigin, GeometryRole, LinkGeometry, ModelBuilder};
@@ -55,20 +56,37 @@ impl<'a> Reader<'a> {
         Ok(())
     }
 
+    /// The bodies with a free joint and no child bodies (MJCF names, file order).
+    pub(super) fn free_bodies(&self) -> Vec<String> {
+        (0..self.bodies.len())
+            .filter(|&i| self.bodies[i].joints.iter().any(|j| j.kind == Kind::Free))
+            .filter(|&i| !self.bodies.iter().any(|b| b.parent == Some(i)))
+            .map(|i| self.bodies[i].name.clone())
+            .collect()
+    }
+
     /// The tree handed to the builder: per MJCF body one tumble body per joint, the geometry and
-    /// the frames; the layout of MuJoCo's coordinates; where each MJCF body sits.
+    /// the frames; the layout of MuJoCo's coordinates; where each MJCF body sits. What
+    /// `leave_out` names is not built (its names are checked by the caller).
     pub(super) fn assemble(
         &mut self,
         name: &str,
         root: &El,
         gravity: DVec3,
-    ) -> Result<(crate::multibody::MultibodyModel, MujocoLayout, Vec<MjcfBody>), MjcfError> {
+        leave_out: &LeaveOut,
+        excludes: &[(String, String)],
+    ) -> Result<(crate::multibody::MultibodyModel, MujocoLayout, Vec<MjcfBody>, ContactFilter), MjcfError> {
         let mut builder = ModelBuilder::new(name);
         builder.add_frame("world", None, Xform::IDENTITY, FrameOrigin::Root, RigidInertia::ZERO);
         let mut placed: Vec<MjcfBody> =
             vec![MjcfBody { name: "world".into(), body: None, pose_in_body: Pose::IDENTITY }];
         let mut layout = Vec::new();
         for b in &self.bodies {
+            if leave_out.bodies.contains(&b.name) {
+                // childless: no later body refers to its entry
+                placed.push(MjcfBody { name: b.name.clone(), body: None, pose_in_body: Pose::IDENTITY });
+                continue;
+            }
             let parent = match b.parent {
                 Some(p) => &placed[p + 1],
                 None => &placed[0],
@@ -134,16 +152,61 @@ impl<'a> Reader<'a> {
             };
             placed.push(MjcfBody { name: b.name.clone(), body, pose_in_body });
         }
-        // geometry: each geom in its body's frame (the link is the MJCF body's frame)
+        // geometry: each geom in its body's frame (the link is the MJCF body's frame), with MuJoCo's
+        // contact filter; what is left out goes: the world's (the worldbody's and that of bodies
+        // welded to it), left-out bodies'
         let world_geoms = std::mem::take(&mut self.world_geoms);
-        let link_geoms = world_geoms
+        let bodies = &self.bodies;
+        // a left-out body is a weld body of its own, not the world
+        let weld = |k: usize| match leave_out.bodies.contains(&bodies[k].name) {
+            true => Some(usize::MAX - k),
+            false => placed[k + 1].body,
+        };
+        let mut weld_parent: Vec<Option<usize>> = Vec::with_capacity(bodies.len());
+        for b in bodies {
+            let wp = match b.parent {
+                None => None,
+                Some(p) if b.joints.is_empty() => weld_parent[p],
+                Some(p) => weld(p),
+            };
+            weld_parent.push(wp);
+        }
+        let filter_of = |g: &GeomRec, body: Option<usize>| GeomFilter {
+            body: body.map_or("world".to_string(), |k| bodies[k].name.clone()),
+            weld: body.and_then(weld),
+            weld_parent: body.and_then(|k| weld_parent[k]),
+            contype: g.contype,
+            conaffinity: g.conaffinity,
+        };
+        // (geom, its body, its filter, kept)
+        let all: Vec<(&GeomRec, Option<usize>, GeomFilter, bool)> = world_geoms
             .iter()
-            .map(|g| ("world".to_string(), g))
-            .chain(self.bodies.iter().flat_map(|b| b.geoms.iter().map(move |g| (b.name.clone(), g))));
-        for (link, g) in link_geoms {
-            let role = if g.contype | g.conaffinity != 0 { GeometryRole::Collision } else { GeometryRole::Visual };
+            .map(|g| (g, None, filter_of(g, None), !leave_out.world))
+            .chain((0..bodies.len()).flat_map(|k| {
+                let kept = !leave_out.bodies.contains(&bodies[k].name) && !(leave_out.world && weld(k).is_none());
+                bodies[k].geoms.iter().map(move |g| (g, Some(k), filter_of(g, Some(k)), kept))
+            }))
+            .collect();
+        // in a file that is its own world, a geom that can collide with none of the file's is no
+        // collision shape
+        let collides = |g: &GeomRec| g.contype | g.conaffinity != 0;
+        let alive: Vec<bool> = (0..all.len())
+            .map(|a| {
+                collides(all[a].0)
+                    && (!leave_out.world
+                        || (0..all.len())
+                            .any(|b| b != a && collides(all[b].0) && pair_may_collide(&all[a].2, &all[b].2, excludes)))
+            })
+            .collect();
+        let mut filter = ContactFilter { geoms: Vec::new(), excludes: excludes.to_vec() };
+        for ((g, body, f, kept), alive) in all.into_iter().zip(alive) {
+            if !kept {
+                continue;
+            }
+            let role = if alive { GeometryRole::Collision } else { GeometryRole::Visual };
             builder.add_geometry(LinkGeometry {
-                link,
+                link: body.map_or("world".to_string(), |k| bodies[k].name.clone()),
+                name: g.el.attr("name").map(|a| a.value.clone()),
                 role,
                 x_from_link: g.in_body.xform(),
                 shape: g.shape.clone(),
@@ -152,6 +215,7 @@ impl<'a> Reader<'a> {
                 conaffinity: g.conaffinity,
                 friction: g.friction,
             });
+            filter.geoms.push(f);
         }
         for w in self.warnings.drain(..) {
             builder.warn(w);
@@ -171,7 +235,8 @@ impl<'a> Reader<'a> {
         })?;
         model.gravity = gravity;
         let layout = MujocoLayout::new(&model, layout);
-        Ok((model, layout, placed))
+        placed.retain(|b| !leave_out.bodies.contains(&b.name));
+        Ok((model, layout, placed, filter))
     }
 }
 

@@ -5,7 +5,7 @@ use super::attrs::{all_zero, View};
 use super::defaults::Defaults;
 use super::pose::Pose;
 use super::xml::El;
-use super::{Compiler, Mjcf, MjcfError, MjcfErrorKind, MjcfIntegrator, MjcfOption, MjcfOptions};
+use super::{Compiler, LeaveOut, Mjcf, MjcfError, MjcfErrorKind, MjcfIntegrator, MjcfOption, MjcfOptions};
 use crate::math::DVec3;
 use crate::multibody::joint::JointDynamics;
 use crate::multibody::model::GeometryShape;
@@ -102,6 +102,15 @@ pub(super) struct Reader<'a> {
 }
 
 pub(super) fn build(root: &El, dir: &Path, options: MjcfOptions) -> Result<Mjcf, MjcfError> {
+    build_leaving_out(root, dir, options, &LeaveOut::default())
+}
+
+pub(super) fn build_leaving_out(
+    root: &El,
+    dir: &Path,
+    options: MjcfOptions,
+    leave_out: &LeaveOut,
+) -> Result<Mjcf, MjcfError> {
     for el in &root.children {
         match el.tag.as_str() {
             "compiler" | "option" | "size" | "visual" | "statistic" | "default" | "custom" | "asset" | "worldbody"
@@ -152,7 +161,15 @@ pub(super) fn build(root: &El, dir: &Path, options: MjcfOptions) -> Result<Mjcf,
     let excludes = reader.contact(root)?;
     let model_name = root.attr("model").map(|a| a.value.clone()).unwrap_or_else(|| "MuJoCo Model".into());
     reader.scale_total_mass(root)?;
-    let (model, layout, bodies) = reader.assemble(&model_name, root, option.gravity)?;
+    let free_bodies = reader.free_bodies();
+    if let Some(name) = leave_out.bodies.iter().find(|n| !free_bodies.contains(n)) {
+        let list = free_bodies.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ");
+        return Err(root.error(MjcfErrorKind::Invalid(format!(
+            "cannot leave out body '{name}': only bodies with a free joint and no child bodies can be ({})",
+            if list.is_empty() { "the file has none".to_string() } else { list }
+        ))));
+    }
+    let (model, layout, bodies, filter) = reader.assemble(&model_name, root, option.gravity, leave_out, &excludes)?;
     let actuators = super::assemble::reader_actuators(&reader, root, &model)?;
     let mut model = model;
     if !actuators.is_empty() {
@@ -162,7 +179,13 @@ pub(super) fn build(root: &El, dir: &Path, options: MjcfOptions) -> Result<Mjcf,
             actuators.len()
         ));
     }
-    Ok(Mjcf { model, option, layout, actuators, excludes, bodies })
+    // a key's qpos is the whole file's: none are read when free bodies are left out
+    let keyframes = if leave_out.bodies.is_empty() {
+        super::keyframe::read_keyframes(root, &model, &layout, actuators.len())?
+    } else {
+        Vec::new()
+    };
+    Ok(Mjcf { model, option, layout, actuators, excludes, bodies, free_bodies, filter, keyframes })
 }
 
 /// A `<fixed>` tendon that exerts nothing (no limit, spring, damping, friction or armature; no

@@ -27,6 +27,8 @@ mod assemble;
 mod attrs;
 mod build;
 mod defaults;
+pub mod filter;
+mod keyframe;
 pub mod layout;
 mod mesh_inertia;
 mod pose;
@@ -37,6 +39,7 @@ use super::model::{ModelError, MultibodyModel};
 use crate::math::DVec3;
 use std::path::{Path, PathBuf};
 
+pub use filter::ContactFilter;
 pub use layout::MujocoLayout;
 pub use xml::{MAX_ELEMENT_DEPTH, MAX_INCLUDE_DEPTH, MAX_MJCF_BYTES};
 
@@ -188,6 +191,68 @@ pub struct Mjcf {
     /// The MJCF bodies in MuJoCo's order (world first): name, the tumble body it moves with
     /// (`None`: the world) and its frame in that body's (`body_X_mjcfbody`), for `xpos`/`xquat`.
     pub bodies: Vec<MjcfBody>,
+    /// The bodies with a free joint and no child bodies, in file order (MJCF names): each is a rigid
+    /// body of its own, which [`LeaveOut`] can take out of the tree.
+    pub free_bodies: Vec<String>,
+    /// MuJoCo's contact filter of the model's geometries ([`filter`]), one entry per geometry.
+    pub filter: ContactFilter,
+    /// `<keyframe><key>` states, in file order (none read when free bodies are left out: their
+    /// `qpos` is the whole file's).
+    pub keyframes: Vec<MjcfKey>,
+}
+
+/// A `<keyframe><key>`: a state in MuJoCo's layout, complete (what the key does not give is
+/// MuJoCo's default: `qpos0`, zero velocities and controls).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MjcfKey {
+    /// Its `name` (`None`: unnamed, chosen by its index).
+    pub name: Option<String>,
+    /// `time` (s).
+    pub time: f64,
+    /// `qpos` (nq; ball and free joints' quaternions normalised), `qvel` (nv), `ctrl` (one per
+    /// actuator).
+    pub qpos: Vec<f64>,
+    pub qvel: Vec<f64>,
+    pub ctrl: Vec<f64>,
+    /// `file:line:col` of the element.
+    pub at: String,
+}
+
+impl Mjcf {
+    /// The key named `name`, or the unnamed one whose index it is; else an error that lists the
+    /// keys.
+    pub fn keyframe(&self, name: &str) -> Result<&MjcfKey, String> {
+        if let Some(k) = self.keyframes.iter().find(|k| k.name.as_deref() == Some(name)) {
+            return Ok(k);
+        }
+        if let Some(k) = name.parse::<usize>().ok().and_then(|i| self.keyframes.get(i)) {
+            if k.name.is_none() {
+                return Ok(k);
+            }
+        }
+        let names: Vec<String> = self
+            .keyframes
+            .iter()
+            .enumerate()
+            .map(|(i, k)| k.name.as_ref().map_or(format!("{i} (unnamed)"), |n| format!("'{n}'")))
+            .collect();
+        Err(if names.is_empty() {
+            format!("no keyframe '{name}': the file has no <keyframe><key>")
+        } else {
+            format!("no keyframe '{name}' (keys: {})", names.join(", "))
+        })
+    }
+}
+
+/// What [`load_mjcf_leaving_out`] leaves out of the tree (`[[robot]] leave_out`): the world's
+/// geometry (the worldbody's geoms and those of bodies welded to it), and bodies with a free joint
+/// and no child bodies, by name. `tumble run X.xml` makes them scene bodies beside the robot.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LeaveOut {
+    /// The geometry fixed to the world.
+    pub world: bool,
+    /// Free bodies without child bodies (MJCF names; each must be one, else an error).
+    pub bodies: Vec<String>,
 }
 
 /// An MJCF body: where its frame sits on the tree.
@@ -214,6 +279,14 @@ pub fn load_mjcf(path: &Path, options: MjcfOptions) -> Result<Mjcf, MjcfError> {
     let root = xml::load(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     build::build(&root, &dir, options)
+}
+
+/// Reads an MJCF file without what `leave_out` names (see [`LeaveOut`]): the model, its layout
+/// (MuJoCo's coordinates of the joints kept), its bodies and geometry are those of the rest.
+pub fn load_mjcf_leaving_out(path: &Path, options: MjcfOptions, leave_out: &LeaveOut) -> Result<Mjcf, MjcfError> {
+    let root = xml::load(path)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    build::build_leaving_out(&root, &dir, options, leave_out)
 }
 
 /// Parses MJCF text; `file` names it in errors, includes and meshes are looked for beside it.
