@@ -187,18 +187,16 @@ impl Integration {
             h_sigma: 0.25,
             p_scale,
             u_scale: u0.length(),
-            stop_tol: 0.0,
+            stop_tol: STOPPED * (u0.z.abs() + DVec3::new(u0.x, u0.y, 0.0).length()),
             slope_at_y: None,
         }
     }
 
     /// Runs the impact to its end; the impulse in the contact frame.
     fn run(&mut self) -> DVec3 {
-        let stick_tol = STOPPED * (self.u_z0.abs() + DVec3::new(self.y[0], self.y[1], 0.0).length());
-        self.stop_tol = stick_tol;
         for _ in 0..MAX_STEPS {
             let rho = norm2(self.y[0], self.y[1]);
-            if self.mu == 0.0 || rho <= stick_tol {
+            if self.mu == 0.0 || rho <= self.stop_tol {
                 match self.stick_direction() {
                     Ok(xi) => return self.finish_linear(xi),
                     // sliding resumes along the diverging ray s, on which it stays: `du_t/dp_z =
@@ -215,7 +213,7 @@ impl Integration {
                 return self.impulse();
             }
             let (ux, uy) = (self.y[0] / rho, self.y[1] / rho);
-            let g = self.rate(ux, uy);
+            let g = slip_rate(&self.k, self.mu, ux, uy);
             let g_t = norm2(g.x, g.y);
             let shrink = ux * g.x + uy * g.y;
             if shrink < -ENTER * g_t {
@@ -237,12 +235,6 @@ impl Integration {
 
     fn impulse(&self) -> DVec3 {
         DVec3::new(self.y[3], self.y[4], self.p_z)
-    }
-
-    /// `du/dp_z = K (−μ û, 1)` while sliding along the unit `û = (u_x, u_y)`; its tangential part
-    /// is the slip's rate `g(û)`.
-    fn rate(&self, ux: f64, uy: f64) -> DVec3 {
-        slip_rate(&self.k, self.mu, ux, uy)
     }
 
     /// Sticking analysis: `Ok(ξ)` if sticking is stable (`|ξ| ≤ μ`, frictionless: `ξ = 0`), else
@@ -391,14 +383,11 @@ impl Integration {
             return true;
         };
         self.h = h_next;
-        if self.event(y1[2], y1[5], self.p_z + taken) >= 0.0 {
-            let p_z0 = self.p_z;
-            let at = |s: f64| if s == taken { y1 } else { dopri5(&f, 0.0, &y0, &k1, s).0 };
-            let root = first_root(taken, |s| {
-                let y = at(s);
-                self.event(y[2], y[5], p_z0 + s)
-            });
-            self.y = at(root);
+        let p_z0 = self.p_z;
+        let event = |s: f64, y: &[f64; 6]| self.event(y[2], y[5], p_z0 + s);
+        if event(taken, &y1) >= 0.0 {
+            let (root, y_root) = locate_event(&f, &y0, &k1, taken, &y1, event);
+            self.y = y_root;
             self.p_z += root;
             if self.compressing {
                 self.y[2] = self.y[2].max(0.0);
@@ -484,13 +473,9 @@ impl Integration {
                 return SigmaEnd::Ended;
             };
             self.h_sigma = h_next;
-            if self.event(z1[3], z1[7], z1[6]) >= 0.0 {
-                let at = |s: f64| if s == taken { z1 } else { dopri5(&f, 0.0, &z, &slope_z, s).0 };
-                let root = first_root(taken, |s| {
-                    let z = at(s);
-                    self.event(z[3], z[7], z[6])
-                });
-                let z_root = at(root);
+            let event = |_: f64, z: &[f64; 8]| self.event(z[3], z[7], z[6]);
+            if event(taken, &z1) >= 0.0 {
+                let (_, z_root) = locate_event(&f, &z, &slope_z, taken, &z1, event);
                 write_back(self, &z_root);
                 if !self.compressing {
                     return SigmaEnd::Ended;
@@ -624,6 +609,22 @@ fn adaptive_step<const N: usize>(
         h *= if ratio.is_finite() { (0.9 * ratio.powf(-0.2)).clamp(0.1, 0.5) } else { 0.25 };
     }
     None
+}
+
+/// Where in the accepted step `taken` from `y` (slope `k1`; `y_end` after it) the event function
+/// `event(s, state after s)` first reaches zero: the step to it and the state there, each trial a
+/// single [`dopri5`] step from `y` (shorter than the accepted one, so as accurate).
+fn locate_event<const N: usize>(
+    f: &impl Fn(f64, &[f64; N]) -> [f64; N],
+    y: &[f64; N],
+    k1: &[f64; N],
+    taken: f64,
+    y_end: &[f64; N],
+    event: impl Fn(f64, &[f64; N]) -> f64,
+) -> (f64, [f64; N]) {
+    let at = |s: f64| if s == taken { *y_end } else { dopri5(f, 0.0, y, k1, s).0 };
+    let root = first_root(taken, |s| event(s, &at(s)));
+    (root, at(root))
 }
 
 /// The first `s ∈ (0, h]` where `f(s)` reaches zero, with `f < 0` at `s = 0` and `f ≥ 0` at
