@@ -599,8 +599,27 @@ impl LinkStage {
         }
     }
 
-    /// Substep: applies the rows' accumulated impulses (warm start).
+    /// Substep: applies the rows' accumulated impulses (warm start); compiled for AVX2 where the
+    /// CPU has it, as [`Self::solve`].
     pub(super) fn warm_start(&mut self, bodies: &mut [SolverBody]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2
+            #[allow(unsafe_code)]
+            return unsafe { self.warm_start_avx2(bodies) };
+        }
+        self.warm_start_in(bodies);
+    }
+
+    /// [`Self::warm_start`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn warm_start_avx2(&mut self, bodies: &mut [SolverBody]) {
+        self.warm_start_in(bodies);
+    }
+
+    #[inline(always)]
+    fn warm_start_in(&mut self, bodies: &mut [SolverBody]) {
         for row in &self.rows {
             if row.lambda != [0.0; 3] {
                 let p = row.lambda[0] * row.n + row.lambda[1] * row.t1 + row.lambda[2] * row.t2;
@@ -609,8 +628,28 @@ impl LinkStage {
         }
     }
 
-    /// One Gauss–Seidel pass over the rows (as [`super::solver::Constraint::solve`]).
+    /// One Gauss–Seidel pass over the rows (as [`super::solver::Constraint::solve`]). On a CPU
+    /// with AVX2 (detected at run time) the same code runs compiled for it: a robot's rows'
+    /// velocities are updated four at a time instead of two, the same operations, the same bits.
     pub(super) fn solve(&mut self, bodies: &mut [SolverBody], sweep: &Sweep) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2
+            #[allow(unsafe_code)]
+            return unsafe { self.solve_avx2(bodies, sweep) };
+        }
+        self.solve_in(bodies, sweep);
+    }
+
+    /// [`Self::solve`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn solve_avx2(&mut self, bodies: &mut [SolverBody], sweep: &Sweep) {
+        self.solve_in(bodies, sweep);
+    }
+
+    #[inline(always)]
+    fn solve_in(&mut self, bodies: &mut [SolverBody], sweep: &Sweep) {
         // the row by reference (a copy of it per solve was a memmove of 400 bytes)
         let (rows, robots) = (&mut self.rows, &mut self.robots);
         for i in 0..rows.len() {
@@ -957,7 +996,7 @@ impl RobotSolve {
 
     /// An impulse `x` on the three rows from `k`: `P_{k+i} += x_i`, `u += Σ_i G_{·k+i} x_i`, in
     /// one pass over `u` (the sums in the order of three [`impulse`](Self::impulse)s).
-    #[inline]
+    #[inline(always)]
     fn impulse3(&mut self, k: usize, x: [f64; 3]) {
         let n = self.rows();
         for (p, xi) in self.p[k..k + 3].iter_mut().zip(x) {
@@ -1071,6 +1110,7 @@ fn side_displacement(robots: &[RobotSolve], bodies: &[SolverBody], side: RowSide
 }
 
 /// Applies the impulse `p` (N·s, world frame) on side `b` and `−p` on side `a`.
+#[inline(always)]
 fn apply(robots: &mut [RobotSolve], bodies: &mut [SolverBody], row: &Row, p: DVec3) {
     for (side, sign, ang) in [(row.a, -1.0, &row.ang_a), (row.b, 1.0, &row.ang_b)] {
         match side {
