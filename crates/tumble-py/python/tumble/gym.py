@@ -426,8 +426,13 @@ class Go1Walk(gymnasium.Env):
             info["diverged"] = str(e)
         self._elapsed += 1
         self.world.state(out=self._state)
-        reward, terms = self.task.reward(self._state, a, self._last_action, self._command, q_target)
-        info["reward_terms"] = {k: float(t) for k, t in terms.items()}
+        # as a batch of one, as the vector environment computes it: NumPy's exp of an array (SIMD)
+        # and of a scalar (libm) can differ in the last bit, and the two must agree bit for bit
+        rewards, terms = self.task.reward(
+            self._state[None], a[None], self._last_action[None], self._command[None], q_target[None]
+        )
+        reward = rewards[0]
+        info["reward_terms"] = {k: float(t[0]) for k, t in terms.items()}
         terminated = diverged or bool(self.task.fallen(self._state)) or self.task.body_contact(self.world)
         truncated = self._elapsed >= self.max_episode_steps
         self._last_action = a

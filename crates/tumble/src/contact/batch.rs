@@ -317,27 +317,30 @@ impl<L: SolveLanes> Slot<L> {
 fn project_on_disc<L: SolveLanes>(k: [L; 3], l1: L, l2: L, limit: L, mask: L) -> (L, L) {
     let [k11, k12, k22] = k;
     let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
-    let zero = L::splat(0.0);
-    let mut nu = zero;
+    let (zero, half) = (L::splat(0.0), L::splat(0.5));
+    let inv_limit = L::splat(1.0) / limit;
+    let half_gap = half * (k11 - k22);
+    let k_max = half * (k11 + k22) + (half_gap * half_gap + k12 * k12).sqrt();
+    let mut nu = ((b1 * b1 + b2 * b2).sqrt() * inv_limit - k_max).max(zero);
     let mut active = mask;
-    for _ in 0..8 {
+    for _ in 0..super::solver::NEWTON_STEPS {
         if !active.any() {
             break;
         }
         let (a11, a22) = (k11 + nu, k22 + nu);
-        let det = a11 * a22 - k12 * k12;
-        let (x1, x2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
-        let norm = (x1 * x1 + x2 * x2).sqrt();
-        let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
-        let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
-        let phi = L::splat(1.0) / norm - L::splat(1.0) / limit;
-        let stop = slope.is_nan() | slope.le(zero) | phi.abs().lt(L::splat(1e-12) / limit);
+        let inv_det = L::splat(1.0) / (a11 * a22 - k12 * k12);
+        let (x1, x2) = ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det);
+        let (y1, y2) = ((a22 * x1 - k12 * x2) * inv_det, (a11 * x2 - k12 * x1) * inv_det);
+        let inv_norm = L::splat(1.0) / (x1 * x1 + x2 * x2).sqrt();
+        let slope = (x1 * y1 + x2 * y2) * (inv_norm * inv_norm * inv_norm);
+        let phi = inv_norm - inv_limit;
+        let stop = slope.is_nan() | slope.le(zero) | phi.abs().lt(L::splat(1e-12) * inv_limit);
         active = stop.select(zero, active);
         nu = active.select((nu - phi / slope).max(zero), nu);
     }
     let (a11, a22) = (k11 + nu, k22 + nu);
-    let det = a11 * a22 - k12 * k12;
-    ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det)
+    let inv_det = L::splat(1.0) / (a11 * a22 - k12 * k12);
+    ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det)
 }
 
 /// The warm start of `batches` in lanes `L`.

@@ -336,7 +336,7 @@ impl Constraint {
         // the resulting slip u = K_tt (λ_t − λ*) normal to the disc, i.e. friction opposes the slip
         // (maximum dissipation), which the plain Euclidean clamp would not do when K_tt is not
         // isotropic. λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*, with ν ≥ 0 the root of the secular equation
-        // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from ν = 0).
+        // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from below).
         // the relative velocity after the normal impulse, u + Δλ_n K n (applied with friction's, once)
         let u = u + dn * self.k_n;
         let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
@@ -362,27 +362,83 @@ impl Constraint {
     }
 }
 
+/// Newton iterations of [`project_on_disc`] at most: two to four in the common case (the legged
+/// scenes), more for a tangent matrix thousands of times stiffer one way than the other (eight
+/// were too few there: its property test found `|λ|` left off the disc by 1.2e-7 of it).
+pub(super) const NEWTON_STEPS: usize = 30;
+
 /// The point of the disc `|λ| ≤ limit` nearest `λ* = (l1, l2)` in the metric of `K_tt = [k11 k12; k12 k22]`:
 /// `λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*` with `ν ≥ 0` the root of `1/|λ(ν)| = 1/limit` by Newton's method
-/// (Moré & Sorensen 1983).
+/// (Moré & Sorensen 1983: the left side is concave in `ν`, so Newton climbs to the root
+/// monotonically from below it). With `b = K_tt λ*` and `k_min ≤ k_max` the eigenvalues of `K_tt`,
+/// `|b|/(k_max + ν) ≤ |λ(ν)| ≤ |b|/(k_min + ν)`, so the root lies in `[|b|/limit − k_max,
+/// |b|/limit − k_min]`: Newton starts at the lower end (exact when `K_tt` is isotropic), and each
+/// iteration takes one reciprocal of the determinant and one of the norm.
 pub(super) fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
     let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
-    let mut nu = 0.0;
-    for _ in 0..8 {
+    let inv_limit = 1.0 / limit;
+    let half_gap = 0.5 * (k11 - k22);
+    let k_max = 0.5 * (k11 + k22) + (half_gap * half_gap + k12 * k12).sqrt();
+    let mut nu = ((b1 * b1 + b2 * b2).sqrt() * inv_limit - k_max).max(0.0);
+    for _ in 0..NEWTON_STEPS {
         let (a11, a22) = (k11 + nu, k22 + nu);
-        let det = a11 * a22 - k12 * k12;
-        let (x1, x2) = ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det);
-        let norm = (x1 * x1 + x2 * x2).sqrt();
-        // λᵀ (K + ν)⁻¹ λ
-        let (y1, y2) = ((a22 * x1 - k12 * x2) / det, (a11 * x2 - k12 * x1) / det);
-        let slope = (x1 * y1 + x2 * y2) / (norm * norm * norm);
-        let phi = 1.0 / norm - 1.0 / limit;
-        if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 / limit {
+        let inv_det = 1.0 / (a11 * a22 - k12 * k12);
+        let (x1, x2) = ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det);
+        // λᵀ (K + ν)⁻¹ λ / |λ|³ = d(1/|λ|)/dν
+        let (y1, y2) = ((a22 * x1 - k12 * x2) * inv_det, (a11 * x2 - k12 * x1) * inv_det);
+        let inv_norm = 1.0 / (x1 * x1 + x2 * x2).sqrt();
+        let slope = (x1 * y1 + x2 * y2) * (inv_norm * inv_norm * inv_norm);
+        let phi = inv_norm - inv_limit;
+        if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 * inv_limit {
             break;
         }
         nu = (nu - phi / slope).max(0.0);
     }
     let (a11, a22) = (k11 + nu, k22 + nu);
-    let det = a11 * a22 - k12 * k12;
-    ((a22 * b1 - k12 * b2) / det, (a11 * b2 - k12 * b1) / det)
+    let inv_det = 1.0 / (a11 * a22 - k12 * k12);
+    ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::project_on_disc;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The projected impulse lies on the disc; the slip it leaves, `K_tt (λ − λ*)`, points
+        /// along `−λ` (friction opposes the slip: the optimality condition of the nearest point in
+        /// the metric of `K_tt`; to `1e-10 κ`, the slip being computed through `K_tt` of condition
+        /// `κ`); and no point of the circle, searched every 0.1°, is nearer in that metric — for
+        /// tangent matrices up to 10⁴ : 1 anisotropic.
+        #[test]
+        fn the_projection_is_the_nearest_point_of_the_disc(
+            k_min in 1e-3f64..1.0, ratio in 1.0f64..1e4, angle in 0.0f64..std::f64::consts::PI,
+            l1 in -10.0f64..10.0, l2 in -10.0f64..10.0, limit_fraction in 1e-3f64..0.999,
+        ) {
+            let (c, s) = (angle.cos(), angle.sin());
+            let k_max = k_min * ratio;
+            let k = [k_min * c * c + k_max * s * s, (k_min - k_max) * c * s, k_min * s * s + k_max * c * c];
+            let limit = limit_fraction * (l1 * l1 + l2 * l2).sqrt();
+            prop_assume!(limit > 1e-6);
+            let (p1, p2) = project_on_disc(k, l1, l2, limit);
+            let len = (p1 * p1 + p2 * p2).sqrt();
+            prop_assert!((len - limit).abs() <= 1e-9 * limit, "|λ| = {len}, limit {limit}");
+            let (d1, d2) = (p1 - l1, p2 - l2);
+            let (slip1, slip2) = (k[0] * d1 + k[1] * d2, k[1] * d1 + k[2] * d2);
+            let slip = (slip1 * slip1 + slip2 * slip2).sqrt();
+            let cross = (slip1 * p2 - slip2 * p1) / (slip * len);
+            let along = -(slip1 * p1 + slip2 * p2) / (slip * len);
+            prop_assert!(cross.abs() <= 1e-10 * ratio && along > 0.0, "slip {slip1}, {slip2} against λ {p1}, {p2}");
+            let distance = |q1: f64, q2: f64| {
+                let (d1, d2) = (q1 - l1, q2 - l2);
+                d1 * (k[0] * d1 + k[1] * d2) + d2 * (k[1] * d1 + k[2] * d2)
+            };
+            let found = distance(p1, p2);
+            for i in 0..3600 {
+                let theta = i as f64 * std::f64::consts::TAU / 3600.0;
+                let other = distance(limit * theta.cos(), limit * theta.sin());
+                prop_assert!(found <= other * (1.0 + 1e-12), "{found} against {other} at {theta} rad");
+            }
+        }
+    }
 }
