@@ -63,7 +63,7 @@ use crate::body::{Material, RigidBody};
 use crate::collision::links::{BodyMotion, LinkColliders, LinkContact, Side};
 use crate::collision::Colliders;
 use crate::math::{DMat3, DQuat, DVec3};
-use crate::multibody::contact_point::{chain_dot, delassus, path_dofs, point_jacobian};
+use crate::multibody::contact_point::{chain_dot, delassus, delassus_scratch_len, path_dofs, point_jacobian};
 use crate::multibody::{bias_forces_placed, crba, ltdl_factor, ContactChange, Control, MultibodyModel, Workspace};
 use parry3d_f64::math::Pose;
 
@@ -186,8 +186,10 @@ struct RobotSolve {
     /// `G = J M⁻¹ Jᵀ` (`rows × rows`, row-major).
     jac: Vec<f64>,
     y: Vec<f64>,
-    /// `D^{-1/2} Y` (scratch of [`delassus`]), and the factor's `1 / D_k`, `D_k^{-1/2}` (nv).
+    /// Scratch of [`delassus`] (`D^{-1/2} Y` by blocks of rows, and the blocks), and the factor's
+    /// `1 / D_k`, `D_k^{-1/2}` (nv).
     y_scaled: Vec<f64>,
+    blocks: Vec<(usize, usize)>,
     inv_d: Vec<f64>,
     inv_sqrt_d: Vec<f64>,
     chain_of: Vec<(usize, usize)>,
@@ -690,11 +692,16 @@ impl LinkStage {
             if l1 * l1 + l2 * l2 > limit * limit {
                 if limit > 0.0 {
                     (l1, l2) = super::solver::project_on_disc(row.tangent_k, l1, l2, limit);
+                    // round-off of the root: land exactly on the disc
+                    let len = (l1 * l1 + l2 * l2).sqrt();
+                    let scale = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
+                    l1 *= scale;
+                    l2 *= scale;
+                } else {
+                    // no normal impulse, no friction (a speculative or letting-go point: common on a
+                    // foot's manifold)
+                    (l1, l2) = (0.0, 0.0);
                 }
-                let len = (l1 * l1 + l2 * l2).sqrt();
-                let scale = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
-                l1 *= scale;
-                l2 *= scale;
             }
             let (d1, d2) = (l1 - lambda[1], l2 - lambda[2]);
             if dn != 0.0 || d1 != 0.0 || d2 != 0.0 {
@@ -851,6 +858,7 @@ impl RobotSolve {
             jac: Vec::new(),
             y: Vec::new(),
             y_scaled: Vec::new(),
+            blocks: Vec::new(),
             inv_d: Vec::new(),
             inv_sqrt_d: Vec::new(),
             chain_of: Vec::new(),
@@ -944,9 +952,10 @@ impl RobotSolve {
         let (n, nv) = (self.rows(), self.nv);
         self.y.clear();
         self.y.extend_from_slice(&self.jac);
-        self.y_scaled.clear();
-        self.y_scaled.resize(self.y.len(), 0.0);
-        self.g.clear();
+        // (`delassus` writes every entry it reads of its scratch, and every entry of `G`)
+        if self.y_scaled.len() < delassus_scratch_len(n, nv) {
+            self.y_scaled.resize(delassus_scratch_len(n, nv), 0.0);
+        }
         self.g.resize(n * n, 0.0);
         self.inv_d.clear();
         self.inv_sqrt_d.clear();
@@ -961,6 +970,7 @@ impl RobotSolve {
             &self.inv_sqrt_d,
             &mut self.y,
             &mut self.y_scaled,
+            &mut self.blocks,
             &self.chain_of,
             &self.chains,
             &mut self.g,

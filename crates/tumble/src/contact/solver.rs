@@ -390,7 +390,8 @@ pub(super) fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit
         let slope = (x1 * y1 + x2 * y2) * (inv_norm * inv_norm * inv_norm);
         let phi = inv_norm - inv_limit;
         if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 * inv_limit {
-            break;
+            // λ(ν) at this ν: the answer
+            return (x1, x2);
         }
         nu = (nu - phi / slope).max(0.0);
     }

@@ -94,29 +94,8 @@ pub fn ltdl_solve(model: &MultibodyModel, ws: &Workspace, b: &mut [f64]) -> Resu
     Ok(())
 }
 
-/// The first stage of [`ltdl_solve`] on a vector that is zero outside `chain`: `y ← L⁻ᵀ y`, where
-/// `chain` lists velocity coordinates deepest first and holds every ancestor (through
-/// [`MultibodyModel::dof_parent`]) of each of its entries — the path of a link to the root, as
-/// [`super::contact_point::path_dofs`] gives it. The result is zero outside `chain` too
-/// (branch-induced sparsity, Featherstone 2008, §6.5): `O(d²)` for a chain of `d` coordinates.
-/// Lengths as in [`ltdl_solve`], checked by the caller.
-pub(crate) fn ltdl_solve_upper_chain(model: &MultibodyModel, ws: &Workspace, chain: &[usize], y: &mut [f64]) {
-    let h = &ws.ltdl;
-    for &k in chain {
-        let y_k = y[k];
-        if y_k == 0.0 {
-            continue;
-        }
-        let mut i = model.dof_parent(k);
-        while i != NONE {
-            y[i] -= h[(k, i)] * y_k;
-            i = model.dof_parent(i);
-        }
-    }
-}
-
-/// The last two stages of [`ltdl_solve`], `x ← L⁻¹ D⁻¹ x` (after [`ltdl_solve_upper_chain`] or the
-/// first stage of the solve, this completes `x = M⁻¹ b`), on two right-hand sides at once, with
+/// The last two stages of [`ltdl_solve`], `x ← L⁻¹ D⁻¹ x` (after the first stage of the solve,
+/// `x ← L⁻ᵀ x`, here or on a chain in [`super::contact_point::delassus`], this completes `x = M⁻¹ b`), on two right-hand sides at once, with
 /// `inv_d` the inverse pivots `1 / D_k` (nv): one walk of the tree for both. Lengths checked by the caller.
 pub(crate) fn ltdl_solve_lower_pair(
     model: &MultibodyModel,
