@@ -321,7 +321,14 @@ fn project_on_disc<L: SolveLanes>(k: [L; 3], l1: L, l2: L, limit: L, mask: L) ->
     let inv_limit = L::splat(1.0) / limit;
     let half_gap = half * (k11 - k22);
     let k_max = half * (k11 + k22) + (half_gap * half_gap + k12 * k12).sqrt();
-    let mut nu = ((b1 * b1 + b2 * b2).sqrt() * inv_limit - k_max).max(zero);
+    let b_sq = b1 * b1 + b2 * b2;
+    let b_norm = b_sq.sqrt();
+    let lower = (b_norm * inv_limit - k_max).max(zero);
+    let (kb1, kb2) = (k11 * b1 + k12 * b2, k12 * b1 + k22 * b2);
+    let inv_b_sq = L::splat(1.0) / b_sq;
+    let (m1, m2) = ((b1 * kb1 + b2 * kb2) * inv_b_sq, (kb1 * kb1 + kb2 * kb2) * inv_b_sq);
+    let far = b_norm * inv_limit - m1;
+    let mut nu = far.gt(zero).select((far + L::splat(1.5) * (m2 - m1 * m1) / far).max(lower), lower);
     let mut active = mask;
     for _ in 0..super::solver::NEWTON_STEPS {
         if !active.any() {
