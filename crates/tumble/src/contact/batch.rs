@@ -335,16 +335,18 @@ fn project_on_disc<L: SolveLanes>(k: [L; 3], l1: L, l2: L, limit: L, mask: L) ->
             break;
         }
         let (a11, a22) = (k11 + nu, k22 + nu);
-        let inv_det = L::splat(1.0) / (a11 * a22 - k12 * k12);
-        let (x1, x2) = ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det);
-        let (y1, y2) = ((a22 * x1 - k12 * x2) * inv_det, (a11 * x2 - k12 * x1) * inv_det);
-        let inv_norm = L::splat(1.0) / (x1 * x1 + x2 * x2).sqrt();
-        let slope = (x1 * y1 + x2 * y2) * (inv_norm * inv_norm * inv_norm);
-        let phi = inv_norm - inv_limit;
-        let stop = slope.is_nan() | slope.le(zero) | phi.abs().lt(L::splat(1e-12) * inv_limit);
+        let det = a11 * a22 - k12 * k12;
+        let (x1, x2) = (a22 * b1 - k12 * b2, a11 * b2 - k12 * b1);
+        let (y1, y2) = (a22 * x1 - k12 * x2, a11 * x2 - k12 * x1);
+        let x_sq = x1 * x1 + x2 * x2;
+        let xy = x1 * y1 + x2 * y2;
+        let inv_xy = L::splat(1.0) / xy;
+        let gap = det - x_sq.sqrt() * inv_limit;
+        let stop = xy.is_nan() | xy.le(zero) | gap.abs().lt(L::splat(1e-12) * det);
         active = stop.select(zero, active);
-        nu = active.select((nu - phi / slope).max(zero), nu);
+        nu = active.select((nu - x_sq * gap * inv_xy).max(zero), nu);
     }
+    // λ(ν) = X/det at each lane's last ν (as the scalar loop returns it)
     let (a11, a22) = (k11 + nu, k22 + nu);
     let inv_det = L::splat(1.0) / (a11 * a22 - k12 * k12);
     ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det)

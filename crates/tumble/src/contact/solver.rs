@@ -379,8 +379,7 @@ pub(super) const NEWTON_STEPS: usize = 30;
 /// `|λ(ν)|² = |b|²/ν² (1 − 2 m₁/ν + 3 m₂/ν² − …)` with the moments `m₁ = bᵀK_tt b/|b|²`, `m₂ =
 /// |K_tt b|²/|b|²`, gives `ν ≈ T + (3/2)(m₂ − m₁²)/T`, `T = |b|/limit − m₁`. Newton starts there
 /// (never below the lower bound; exact when `K_tt` is isotropic): 2.5 evaluations per call on the
-/// trotting Solo-12 instead of 3.1 from the lower bound. Each iteration takes one reciprocal of the
-/// determinant and one of the norm.
+/// trotting Solo-12 instead of 3.1 from the lower bound.
 pub(super) fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
     let (b1, b2) = (k11 * l1 + k12 * l2, k12 * l1 + k22 * l2);
     let inv_limit = 1.0 / limit;
@@ -395,19 +394,24 @@ pub(super) fn project_on_disc([k11, k12, k22]: [f64; 3], l1: f64, l2: f64, limit
     let far = b_norm * inv_limit - m1;
     let mut nu = if far > 0.0 { (far + 1.5 * (m2 - m1 * m1) / far).max(lower) } else { lower };
     for _ in 0..NEWTON_STEPS {
+        // (K_tt + ν)⁻¹ = adj/det: λ(ν) = X/det with X = adj b, and (K_tt + ν)⁻¹ λ = Y/det² with
+        // Y = adj X; then φ = (det − |X|/limit)/|X|, φ' = λᵀ(K_tt + ν)⁻¹λ/|λ|³ = XᵀY/|X|³ and the
+        // Newton step φ/φ' = |X|² (det − |X|/limit)/XᵀY: one square root and one division, side by
+        // side, per iteration
         let (a11, a22) = (k11 + nu, k22 + nu);
-        let inv_det = 1.0 / (a11 * a22 - k12 * k12);
-        let (x1, x2) = ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det);
-        // λᵀ (K + ν)⁻¹ λ / |λ|³ = d(1/|λ|)/dν
-        let (y1, y2) = ((a22 * x1 - k12 * x2) * inv_det, (a11 * x2 - k12 * x1) * inv_det);
-        let inv_norm = 1.0 / (x1 * x1 + x2 * x2).sqrt();
-        let slope = (x1 * y1 + x2 * y2) * (inv_norm * inv_norm * inv_norm);
-        let phi = inv_norm - inv_limit;
-        if slope.is_nan() || slope <= 0.0 || phi.abs() < 1e-12 * inv_limit {
-            // λ(ν) at this ν: the answer
-            return (x1, x2);
+        let det = a11 * a22 - k12 * k12;
+        let (x1, x2) = (a22 * b1 - k12 * b2, a11 * b2 - k12 * b1);
+        let (y1, y2) = (a22 * x1 - k12 * x2, a11 * x2 - k12 * x1);
+        let x_sq = x1 * x1 + x2 * x2;
+        let xy = x1 * y1 + x2 * y2;
+        let inv_xy = 1.0 / xy;
+        let gap = det - x_sq.sqrt() * inv_limit;
+        // |φ| < 1e-12/|λ|: |λ| on the circle to 1e-12
+        if xy.is_nan() || xy <= 0.0 || gap.abs() < 1e-12 * det {
+            let inv_det = 1.0 / det;
+            return (x1 * inv_det, x2 * inv_det);
         }
-        nu = (nu - phi / slope).max(0.0);
+        nu = (nu - x_sq * gap * inv_xy).max(0.0);
     }
     let (a11, a22) = (k11 + nu, k22 + nu);
     let inv_det = 1.0 / (a11 * a22 - k12 * k12);
