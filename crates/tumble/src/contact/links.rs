@@ -687,22 +687,8 @@ impl LinkStage {
             let u = u + dn * (row.k * row.n);
             let (ux, uy) = (u.dot(row.t1), u.dot(row.t2));
             let m = row.tangent_mass;
-            let (mut l1, mut l2) = (lambda[1] - (m[0] * ux + m[1] * uy), lambda[2] - (m[2] * ux + m[3] * uy));
-            let limit = row.mu * new;
-            if l1 * l1 + l2 * l2 > limit * limit {
-                if limit > 0.0 {
-                    (l1, l2) = super::solver::project_on_disc(row.tangent_k, l1, l2, limit);
-                    // round-off of the root: land exactly on the disc
-                    let len = (l1 * l1 + l2 * l2).sqrt();
-                    let scale = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
-                    l1 *= scale;
-                    l2 *= scale;
-                } else {
-                    // no normal impulse, no friction (a speculative or letting-go point: common on a
-                    // foot's manifold)
-                    (l1, l2) = (0.0, 0.0);
-                }
-            }
+            let (l1, l2) = (lambda[1] - (m[0] * ux + m[1] * uy), lambda[2] - (m[2] * ux + m[3] * uy));
+            let (l1, l2) = super::solver::friction_on_disc(row.tangent_k, l1, l2, row.mu * new);
             let (d1, d2) = (l1 - lambda[1], l2 - lambda[2]);
             if dn != 0.0 || d1 != 0.0 || d2 != 0.0 {
                 let p = dn * row.n + d1 * row.t1 + d2 * row.t2;

@@ -341,25 +341,32 @@ impl Constraint {
         let u = u + dn * self.k_n;
         let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
         let m = self.tangent_mass;
-        let (mut l1, mut l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
+        let (l1, l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
         let limit = self.mu * self.lambda[0];
-        // squared lengths: no square root on the way of the common case (sticking)
-        if l1 * l1 + l2 * l2 > limit * limit {
-            if limit > 0.0 {
-                (l1, l2) = project_on_disc(self.tangent_k, l1, l2, limit);
-            }
-            // round-off of the root: land exactly on the disc
-            let len = (l1 * l1 + l2 * l2).sqrt();
-            let s = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
-            l1 *= s;
-            l2 *= s;
-        }
+        let (l1, l2) = friction_on_disc(self.tangent_k, l1, l2, limit);
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
         self.lambda[1] = l1;
         self.lambda[2] = l2;
         self.apply(ma, mb, dn, d1, d2);
         self.lambda != [0.0; 3]
     }
+}
+
+/// The tangential impulse of a point with friction limit `limit = μ λ_n`: `λ* = (l1, l2)` where it
+/// lies in the disc (sticking), else the disc's point nearest it in the metric of `K_tt`
+/// ([`project_on_disc`]), put exactly on the circle (the root's round-off). The free bodies'
+/// constraints and the robots' rows both take their friction here (the lanes of `contact::batch`
+/// do the same operations).
+#[inline]
+pub(super) fn friction_on_disc(tangent_k: [f64; 3], l1: f64, l2: f64, limit: f64) -> (f64, f64) {
+    // squared lengths: no square root on the way of the common case (sticking)
+    if l1 * l1 + l2 * l2 <= limit * limit {
+        return (l1, l2);
+    }
+    let (l1, l2) = if limit > 0.0 { project_on_disc(tangent_k, l1, l2, limit) } else { (l1, l2) };
+    let len = (l1 * l1 + l2 * l2).sqrt();
+    let s = if len > 0.0 && len.is_finite() { limit / len } else { 0.0 };
+    (l1 * s, l2 * s)
 }
 
 /// Newton iterations of [`project_on_disc`] at most: two or three in the common case (the legged

@@ -231,7 +231,8 @@ fn delassus_in(
         // Y = L⁻ᵀ Jᵀ on the chain (zero outside it: the chain holds every ancestor of its
         // coordinates), the lanes at once
         for &k in chain {
-            let y_k: [f64; L] = block[k * L..(k + 1) * L].try_into().unwrap_or([0.0; L]);
+            let mut y_k = [0.0; L];
+            y_k.copy_from_slice(&block[k * L..(k + 1) * L]);
             if y_k == [0.0; L] {
                 continue;
             }
