@@ -59,7 +59,7 @@ impl Snapshot {
         let point_forces = if l.point_forces.is_empty() {
             0
         } else {
-            let mut h = crate::world::StateHasher::default();
+            let mut h = crate::math::StateHasher::default();
             for p in &l.point_forces {
                 h.add_all(&p.point_body.to_array());
                 h.add_all(&p.force.to_array());

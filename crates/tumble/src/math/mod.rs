@@ -10,6 +10,9 @@
 
 pub use glamx::{DMat3, DQuat, DVec3, DVec4};
 
+mod hash;
+pub use hash::StateHasher;
+
 /// The cross-product matrix `ã` of the seed's (2.1): `skew(a) * b == a.cross(b)`.
 ///
 /// ```text

@@ -13,7 +13,7 @@ mod state;
 mod threads;
 pub(crate) use crate::profile::Clock;
 pub use crate::profile::{PerStep, Profile};
-pub use hash::StateHasher;
+pub use crate::math::StateHasher;
 pub use robots::{robot_method, ActuatorDrive, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
