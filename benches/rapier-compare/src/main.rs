@@ -24,6 +24,8 @@
 //! `mass` with a shape), friction and restitution (equal on every body in these scenes, so the two
 //! engines' combine rules agree), `dt` and gravity.
 
+mod curve;
+
 use rapier3d_f64::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -230,6 +232,40 @@ fn main() {
         args.drain(at..at + 2);
     }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    if let Some(at) = args.iter().position(|a| a == "--curve") {
+        args.remove(at);
+        let mut take_path = |flag: &str| {
+            args.iter().position(|a| a == flag).map(|at| {
+                let p = args.get(at + 1).cloned().unwrap_or_else(|| {
+                    eprintln!("{flag} takes a file name");
+                    std::process::exit(2);
+                });
+                args.drain(at..at + 2);
+                p
+            })
+        };
+        let plot = take_path("--plot");
+        let csv = take_path("--csv");
+        let scenes = if args.is_empty() { curve::default_scenes(&root) } else { args };
+        println!("{steps} steps each, both engines single-threaded, sleeping off, median of {reps} interleaved repetitions");
+        let curves = curve::sweep(&scenes, steps, reps);
+        let unmatched = curve::report(&curves);
+        println!();
+        println!("Rapier settings with no tumble setting at most as slow and with no more drift: {unmatched}");
+        if let Some(p) = csv {
+            if let Err(e) = curve::write_csv(&curves, Path::new(&p)) {
+                eprintln!("{p}: {e}");
+                std::process::exit(1);
+            }
+        }
+        if let Some(p) = plot {
+            if let Err(e) = curve::plot(&curves, Path::new(&p)) {
+                eprintln!("{p}: {e}");
+                std::process::exit(1);
+            }
+        }
+        return;
+    }
     let scenes: Vec<String> = if args.is_empty() {
         ["scenes/pyramid.toml", "scenes/balls.toml"].iter().map(|s| root.join(s).display().to_string()).collect()
     } else {
