@@ -282,15 +282,8 @@ pub fn write_csv(curves: &[Curve], path: &Path) -> std::io::Result<()> {
     let mut out = String::from("scene,engine,setting,ms_per_step,drift_m,overlap_m\n");
     for c in curves {
         for (s, p) in &c.points {
-            out += &format!(
-                "{},{},\"{}\",{},{},{}\n",
-                c.scene,
-                s.engine(),
-                s.label(),
-                p.ms_per_step,
-                p.drift,
-                p.overlap
-            );
+            out +=
+                &format!("{},{},\"{}\",{},{},{}\n", c.scene, s.engine(), s.label(), p.ms_per_step, p.drift, p.overlap);
         }
     }
     std::fs::write(path, out)
@@ -318,10 +311,7 @@ pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Err
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
-            .build_cartesian_2d(
-                (tmin / 1.3..tmax * 1.3).log_scale(),
-                (dmin / 2.0..dmax * 2.0).log_scale(),
-            )?;
+            .build_cartesian_2d((tmin / 1.3..tmax * 1.3).log_scale(), (dmin / 2.0..dmax * 2.0).log_scale())?;
         chart
             .configure_mesh()
             .x_desc("ms per step")
@@ -330,12 +320,8 @@ pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Err
             .y_label_formatter(&|y| format!("{y:.3}"))
             .draw()?;
         for (engine, colour) in [("tumble", RGBColor(200, 60, 30)), ("Rapier", RGBColor(40, 90, 200))] {
-            let mut pts: Vec<(f64, f64)> = c
-                .points
-                .iter()
-                .filter(|(s, _)| s.engine() == engine)
-                .map(|(_, p)| (p.ms_per_step, drift(p)))
-                .collect();
+            let mut pts: Vec<(f64, f64)> =
+                c.points.iter().filter(|(s, _)| s.engine() == engine).map(|(_, p)| (p.ms_per_step, drift(p))).collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
             // the lower envelope: the least drift reached at or below each cost
             let mut envelope = Vec::new();
@@ -368,4 +354,3 @@ pub fn default_scenes(root: &Path) -> Vec<String> {
         .map(|s| root.join(s).display().to_string())
         .collect()
 }
-

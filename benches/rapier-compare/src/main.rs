@@ -247,7 +247,9 @@ fn main() {
         let plot = take_path("--plot");
         let csv = take_path("--csv");
         let scenes = if args.is_empty() { curve::default_scenes(&root) } else { args };
-        println!("{steps} steps each, both engines single-threaded, sleeping off, median of {reps} interleaved repetitions");
+        println!(
+            "{steps} steps each, both engines single-threaded, sleeping off, median of {reps} interleaved repetitions"
+        );
         let curves = curve::sweep(&scenes, steps, reps);
         let unmatched = curve::report(&curves);
         println!();

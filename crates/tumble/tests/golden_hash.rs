@@ -38,9 +38,13 @@ use tumble::World;
 /// iterates: sliding impulses moved in their last bits), and once more (pyramid was
 /// 0xc984_3406_547c_8370, awake 0xcc13_8003_d66b_7f0b; quadruped 0xd4fa_37c3_5513_3225) when its
 /// Newton step was written with the adjugate (one square root and one division per iteration) and
-/// the impacts' step-size controller took `r^(−1/8)` by square roots instead of `powf`.
+/// the impacts' step-size controller took `r^(−1/8)` by square roots instead of `powf`. The
+/// pyramid's moved once more on 2026-12-05 (was 0x7c86_2e84_6580_5861, awake
+/// 0x933a_0dd9_a4a9_6b2d) when the contact sweeps began to alternate their direction over a
+/// manifold's points (`solver::Sweep::reverse`: a 10:1 stack rocked and walked 42.6 mm in 1,000
+/// steps, now 1.1 mm); the balls (one point per pair) and the quadruped (robot rows only) kept theirs.
 const GOLDEN: [(&str, u64, u64); 3] = [
-    ("pyramid", 300, 0x7c86_2e84_6580_5861),
+    ("pyramid", 300, 0x4616_0d20_0ba9_b7e8),
     ("balls", 300, 0x26a1_2a4d_f7b3_1ba5),
     ("quadruped", 400, 0xa637_b67e_301e_528c),
 ];
@@ -48,7 +52,7 @@ const GOLDEN: [(&str, u64, u64); 3] = [
 /// The same with sleeping off (`sleep = false`): the values from before sleeping existed, which
 /// the step must still give bit for bit.
 const GOLDEN_AWAKE: [(&str, u64, u64); 3] = [
-    ("pyramid", 300, 0x933a_0dd9_a4a9_6b2d),
+    ("pyramid", 300, 0x367c_dfb8_6ae9_8ceb),
     ("balls", 300, 0x7dd2_4454_3f7c_0cad),
     ("quadruped", 400, 0xa637_b67e_301e_528c),
 ];

@@ -581,6 +581,10 @@ impl ContactStage {
         // a robot alone on the floor has no body constraint: the lanes' calls (one per colour and
         // pass) are skipped
         let with_bodies = !constraints.is_empty();
+        // the sweeps of the step, counted: each pass over a manifold's points runs the other way
+        // than the one before, with a pass and the next one going the same way in pairs (forward,
+        // back, back, forward, …; `solver::Sweep::reverse`)
+        let mut sweeps_done = 0u32;
         for _ in 0..substeps {
             for &i in &self.active {
                 self.bodies[i].integrate_velocity(h);
@@ -596,8 +600,11 @@ impl ContactStage {
                 links.warm_start_limits();
             }
             let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
-                let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed };
                 for _ in 0..settings.iterations {
+                    let reverse = (sweeps_done + 1) / 2 % 2 == 1;
+                    sweeps_done += 1;
+                    let sweep =
+                        solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed, reverse };
                     if with_bodies {
                         lanes.solve(constraints, bodies, &sweep);
                     }

@@ -11,9 +11,9 @@ mod hash;
 mod robots;
 mod state;
 mod threads;
+pub use crate::math::StateHasher;
 pub(crate) use crate::profile::Clock;
 pub use crate::profile::{PerStep, Profile};
-pub use crate::math::StateHasher;
 pub use robots::{robot_method, ActuatorDrive, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
