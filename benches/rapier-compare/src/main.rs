@@ -23,8 +23,12 @@
 //! velocities, masses (Rapier computes the inertia from the shape and the mass, as tumble does for a
 //! `mass` with a shape), friction and restitution (equal on every body in these scenes, so the two
 //! engines' combine rules agree), `dt` and gravity.
+//!
+//! `--curve` sweeps both engines' accuracy knobs (`curve`); `--sleep-onset` measures how soon each
+//! engine puts the settled scenes to sleep and what waking costs (`onset`).
 
 mod curve;
+mod onset;
 
 use rapier3d_f64::prelude::*;
 use std::path::Path;
@@ -232,6 +236,12 @@ fn main() {
         args.drain(at..at + 2);
     }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    if let Some(at) = args.iter().position(|a| a == "--sleep-onset") {
+        args.remove(at);
+        let scenes = if args.is_empty() { onset::default_scenes(&root) } else { args };
+        onset::report(&scenes, steps, reps);
+        return;
+    }
     if let Some(at) = args.iter().position(|a| a == "--curve") {
         args.remove(at);
         let mut take_path = |flag: &str| {
