@@ -106,6 +106,10 @@ pub struct Colliders {
     excluded: Vec<(usize, usize)>,
     aabbs: Vec<Aabb>,
     sweeps: Vec<f64>,
+    /// Per body, whether its box and sweep were made while it slept (module `broad`: a body asleep
+    /// then and now keeps them), and the step settings `(dt, gravity, margin)` they were made with.
+    made_asleep: Vec<bool>,
+    broad_settings: Option<(f64, DVec3, f64)>,
     /// The broad phase's grid and buffers (module `broad`).
     grid: broad::Grid,
     pairs: Vec<(usize, usize)>,
@@ -194,6 +198,8 @@ impl Colliders {
             excluded: Vec::new(),
             aabbs: Vec::new(),
             sweeps: Vec::new(),
+            made_asleep: Vec::new(),
+            broad_settings: None,
             grid: broad::Grid::default(),
             pairs: Vec::new(),
             manifolds: pairs::PairManifolds::default(),
@@ -212,6 +218,7 @@ impl Colliders {
 
     /// Rebuilds the shapes after bodies were added or removed.
     pub fn rebuild(&mut self, bodies: &[RigidBody]) {
+        self.broad_settings = None;
         self.shapes.clear();
         self.shape_offsets.clear();
         self.planes.clear();

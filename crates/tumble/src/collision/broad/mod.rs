@@ -184,8 +184,20 @@ impl Colliders {
     pub(super) fn broad_phase(&mut self, bodies: &[RigidBody], asleep: &[bool], dt: f64, gravity: DVec3, slop: f64) {
         let n = bodies.len().min(self.shapes.len());
         self.over_budget = None;
-        self.aabbs.clear();
-        self.sweeps.clear();
+        // a body asleep now and at the last broad phase, under the same step settings, keeps the box
+        // and sweep it had: asleep, its state has not changed by a bit since (`contact::sleep`; a
+        // change by the caller wakes it) and its velocity is zero, so they would come out the same
+        let settings = (dt, gravity, slop);
+        let keep = self.broad_settings == Some(settings) && self.aabbs.len() == n && self.made_asleep.len() == n;
+        self.broad_settings = Some(settings);
+        if !keep {
+            self.aabbs.clear();
+            self.aabbs.resize(n, Aabb::new_invalid());
+            self.sweeps.clear();
+            self.sweeps.resize(n, 0.0);
+            self.made_asleep.clear();
+            self.made_asleep.resize(n, false);
+        }
         self.pairs.clear();
         let mut grid = std::mem::take(&mut self.grid);
         grid.boxed.clear();
@@ -196,33 +208,36 @@ impl Colliders {
         let (mut width_sum, mut widths) = (0.0, 0usize);
         for i in 0..n {
             let b = &bodies[i];
-            let rests = b.fixed || asleep.get(i).copied().unwrap_or(false);
+            let sleeping = !b.fixed && asleep.get(i).copied().unwrap_or(false);
+            let rests = b.fixed || sleeping;
             grid.fixed.push(rests);
-            let sweep = if b.fixed {
-                0.0
-            } else {
-                (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt
-                    + fall * b.gravity_scale.abs()
-            };
-            self.sweeps.push(sweep + 0.5 * slop);
-            let aabb = match &self.shapes[i] {
-                Some(s) if !self.planes.contains(&i) => {
-                    let pose = self.pose(bodies, i);
-                    let aabb = s.compute_aabb(&pose).loosened(sweep + 0.5 * slop);
-                    let width = (aabb.maxs - aabb.mins).max_element();
-                    if width.is_finite() {
-                        width_sum += width;
-                        widths += 1;
-                    }
-                    grid.boxed.push(i);
-                    if !rests {
-                        grid.free_boxed.push(i);
-                    }
-                    aabb
+            let boxed = matches!(&self.shapes[i], Some(_) if !self.planes.contains(&i));
+            if !(sleeping && self.made_asleep[i]) {
+                let sweep = if b.fixed {
+                    0.0
+                } else {
+                    (b.state.velocity.length() + b.state.omega_body.length() * self.radii[i]) * dt
+                        + fall * b.gravity_scale.abs()
+                };
+                self.sweeps[i] = sweep + 0.5 * slop;
+                self.aabbs[i] = match &self.shapes[i] {
+                    Some(s) if boxed => s.compute_aabb(&self.pose(bodies, i)).loosened(sweep + 0.5 * slop),
+                    _ => Aabb::new_invalid(),
+                };
+                self.made_asleep[i] = sleeping;
+            }
+            if boxed {
+                let aabb = &self.aabbs[i];
+                let width = (aabb.maxs - aabb.mins).max_element();
+                if width.is_finite() {
+                    width_sum += width;
+                    widths += 1;
                 }
-                _ => Aabb::new_invalid(),
-            };
-            self.aabbs.push(aabb);
+                grid.boxed.push(i);
+                if !rests {
+                    grid.free_boxed.push(i);
+                }
+            }
         }
         // every body with a box asleep or fixed (a pile at rest): no pair to find
         if grid.free_boxed.is_empty() {

@@ -307,3 +307,41 @@ fn a_heap_at_one_spot_stops_at_the_pair_budget() {
     c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::ZERO, 0.0);
     assert_eq!((c.pairs_over_budget(), c.pairs.len()), (None, all));
 }
+
+/// A body asleep at two broad phases in a row keeps the box it had (no pose, no box made: its
+/// state cannot have changed, `contact::sleep` wakes a body the caller changed), and gets a new one
+/// when it wakes or when the step's settings change. Seen here by moving the body behind the
+/// sleep module's back, which the world never lets happen.
+#[test]
+fn a_sleeping_body_keeps_its_box() {
+    let cube = |x: f64| {
+        let mut b = RigidBody::new("cube", MassProperties::from_principal(1.0, DVec3::ONE).unwrap());
+        b.shape = Some(Shape::Box { half_extents: DVec3::splat(0.5) });
+        b.state.position = DVec3::new(x, 0.0, 0.0);
+        b
+    };
+    let mut bodies = vec![cube(0.0), cube(1.0)];
+    let mut c = Colliders::new(&bodies);
+    let (dt, g) = (1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81));
+    let asleep = [true, false];
+    let x_min = |c: &Colliders| c.aabbs[0].mins.x;
+    c.broad_phase(&bodies, &asleep, dt, g, 0.001);
+    let made = x_min(&c);
+    assert!((made + 0.5).abs() < 0.01);
+    // asleep before and now: the box is kept, though the body moved
+    bodies[0].state.position.x = -3.0;
+    c.broad_phase(&bodies, &asleep, dt, g, 0.001);
+    assert_eq!(x_min(&c).to_bits(), made.to_bits());
+    // the pair with its awake neighbour is still found from the kept box
+    assert_eq!(c.pairs, vec![(0, 1)]);
+    // other step settings: made again
+    c.broad_phase(&bodies, &asleep, dt / 2.0, g, 0.001);
+    assert!((x_min(&c) + 3.5).abs() < 0.01);
+    // awake: made again at every broad phase
+    bodies[0].state.position.x = 0.0;
+    c.broad_phase(&bodies, &[false, false], dt, g, 0.001);
+    assert!((x_min(&c) + 0.5).abs() < 0.01);
+    bodies[0].state.position.x = -3.0;
+    c.broad_phase(&bodies, &[false, false], dt, g, 0.001);
+    assert!((x_min(&c) + 3.5).abs() < 0.01);
+}
