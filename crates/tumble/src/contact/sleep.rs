@@ -39,61 +39,83 @@ use crate::body::RigidBody;
 use crate::math::DVec3;
 
 /// What a sleeping body (or a fixed body a sleeping one rests on) was when its island fell asleep:
-/// whatever the caller could change between steps.
+/// whatever the caller could change between steps, bit for bit (state, loads, damping, mass,
+/// gravity scale; the point forces by a hash).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Snapshot {
-    state: crate::body::BodyState,
-    force_world: DVec3,
-    force_body: DVec3,
-    torque_world: DVec3,
-    torque_body: DVec3,
-    damping: [f64; 2],
-    mass: f64,
-    gravity_scale: f64,
+    bits: [u64; SNAPSHOT_WORDS],
+    /// 0 without point forces, else their hash (odd).
     point_forces: u64,
 }
 
+/// The words of a snapshot: position 3, orientation 4, velocity 3, ω 3, four load vectors 12,
+/// two dampings, mass, gravity scale.
+const SNAPSHOT_WORDS: usize = 29;
+
 impl Snapshot {
     fn of(b: &RigidBody) -> Self {
-        let l = &b.loads;
-        let point_forces = if l.point_forces.is_empty() {
-            0
-        } else {
-            let mut h = crate::math::StateHasher::default();
-            for p in &l.point_forces {
-                h.add_all(&p.point_body.to_array());
-                h.add_all(&p.force.to_array());
-                h.add(f64::from(u8::from(p.frame == crate::body::Frame::Body)));
-            }
-            h.finish() | 1
-        };
-        Self {
-            state: b.state,
-            force_world: l.force_world,
-            force_body: l.force_body,
-            torque_world: l.torque_world,
-            torque_body: l.torque_body,
-            damping: [l.linear_damping, l.angular_damping],
-            mass: b.mass.mass,
-            gravity_scale: b.gravity_scale,
-            point_forces,
-        }
+        Self { bits: Self::bits(b), point_forces: Self::point_forces(b) }
     }
 
-    /// Whether `b` still is as recorded (point forces by their hash, computed only when there
-    /// are some).
-    fn matches(&self, b: &RigidBody) -> bool {
+    /// The bits of every scalar the caller could change (one array, compared at once).
+    #[inline]
+    fn bits(b: &RigidBody) -> [u64; SNAPSHOT_WORDS] {
+        let (s, l) = (&b.state, &b.loads);
+        let q = s.orientation;
+        let words: [f64; SNAPSHOT_WORDS] = [
+            s.position.x,
+            s.position.y,
+            s.position.z,
+            q.x,
+            q.y,
+            q.z,
+            q.w,
+            s.velocity.x,
+            s.velocity.y,
+            s.velocity.z,
+            s.omega_body.x,
+            s.omega_body.y,
+            s.omega_body.z,
+            l.force_world.x,
+            l.force_world.y,
+            l.force_world.z,
+            l.force_body.x,
+            l.force_body.y,
+            l.force_body.z,
+            l.torque_world.x,
+            l.torque_world.y,
+            l.torque_world.z,
+            l.torque_body.x,
+            l.torque_body.y,
+            l.torque_body.z,
+            l.linear_damping,
+            l.angular_damping,
+            b.mass.mass,
+            b.gravity_scale,
+        ];
+        words.map(f64::to_bits)
+    }
+
+    fn point_forces(b: &RigidBody) -> u64 {
         let l = &b.loads;
-        self.state == b.state
-            && self.force_world == l.force_world
-            && self.force_body == l.force_body
-            && self.torque_world == l.torque_world
-            && self.torque_body == l.torque_body
-            && self.damping == [l.linear_damping, l.angular_damping]
-            && self.mass == b.mass.mass
-            && self.gravity_scale == b.gravity_scale
-            && (self.point_forces == 0) == l.point_forces.is_empty()
-            && (self.point_forces == 0 || *self == Snapshot::of(b))
+        if l.point_forces.is_empty() {
+            return 0;
+        }
+        let mut h = crate::math::StateHasher::default();
+        for p in &l.point_forces {
+            h.add_all(&p.point_body.to_array());
+            h.add_all(&p.force.to_array());
+            h.add(f64::from(u8::from(p.frame == crate::body::Frame::Body)));
+        }
+        h.finish() | 1
+    }
+
+    /// Whether `b` still is as recorded, bit for bit (the point forces' hash computed only when
+    /// there are some).
+    fn matches(&self, b: &RigidBody) -> bool {
+        self.bits == Self::bits(b)
+            && (self.point_forces == 0) == b.loads.point_forces.is_empty()
+            && (self.point_forces == 0 || self.point_forces == Self::point_forces(b))
     }
 }
 
