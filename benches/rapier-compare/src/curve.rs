@@ -183,14 +183,7 @@ pub fn sweep(scenes: &[String], steps: usize, reps: usize) -> Vec<Curve> {
     let settings = settings();
     let mut curves = Vec::new();
     for path in scenes {
-        let scene = match tumble::scene::load(Path::new(path)) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("{e}");
-                std::process::exit(2);
-            }
-        };
-        let world = scene.world;
+        let world = super::load_world(path);
         let mut runs: Vec<Vec<Point>> = vec![Vec::new(); settings.len()];
         for rep in 0..reps {
             eprintln!("{path}: repetition {}/{reps}", rep + 1);

@@ -196,6 +196,18 @@ fn median(mut xs: Vec<f64>) -> f64 {
     }
 }
 
+/// The world of the scene file at `path`; a scene that does not load is reported and ends the
+/// run with status 2.
+fn load_world(path: &str) -> tumble::World {
+    match tumble::scene::load(Path::new(path)) {
+        Ok(s) => s.world,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    }
+}
+
 /// The median over the runs of `f`.
 fn med(runs: &[Run], f: impl Fn(&Run) -> f64) -> f64 {
     median(runs.iter().map(f).collect())
@@ -286,14 +298,7 @@ fn main() {
     println!("{steps} steps each, Rapier single-threaded, tumble on {threads} thread(s), median of {reps} interleaved repetitions");
     let mut results = Vec::new();
     for path in scenes {
-        let scene = match tumble::scene::load(Path::new(&path)) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("{e}");
-                std::process::exit(2);
-            }
-        };
-        let mut world = scene.world;
+        let mut world = load_world(&path);
         world.set_threads(threads);
         if let Some(v) = sleep_speed {
             world.config.contact.sleep_speed = v;

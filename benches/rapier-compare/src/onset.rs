@@ -127,14 +127,7 @@ fn step_label(s: Option<usize>, dt: f64) -> String {
 pub fn report(scenes: &[String], steps: usize, reps: usize) {
     let defaults = tumble::contact::ContactSettings::default();
     for path in scenes {
-        let scene = match tumble::scene::load(Path::new(path)) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("{e}");
-                std::process::exit(2);
-            }
-        };
-        let world = scene.world;
+        let world = super::load_world(path);
         let dt = world.config.dt;
         let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or(path.clone());
         println!();
