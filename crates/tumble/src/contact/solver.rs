@@ -181,19 +181,24 @@ pub fn solve_pair(constraints: &mut [Constraint], bodies: &mut [SolverBody], swe
     let (a, b) = (first.a, first.b);
     let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
     let mut any = false;
-    if sweep.reverse {
-        for k in constraints.iter_mut().rev() {
-            debug_assert!(k.a == a && k.b == b);
-            any |= k.solve(&mut ma, &mut mb, sweep);
-        }
-    } else {
-        for k in constraints.iter_mut() {
-            debug_assert!(k.a == a && k.b == b);
-            any |= k.solve(&mut ma, &mut mb, sweep);
-        }
-    }
+    in_sweep_order(constraints, sweep, |k| {
+        debug_assert!(k.a == a && k.b == b);
+        any |= k.solve(&mut ma, &mut mb, sweep);
+    });
     ma.store(bodies, a, any);
     mb.store(bodies, b, any);
+}
+
+/// Calls `f` on a pair's points in the order of the sweep: first to last, or last to first when
+/// [`Sweep::reverse`] (the scalar pairs of the overflow; the lanes' sweep writes its two loops out,
+/// see `batch::sweep_in`).
+#[inline(always)]
+pub(super) fn in_sweep_order<T>(points: &mut [T], sweep: &Sweep, f: impl FnMut(&mut T)) {
+    if sweep.reverse {
+        points.iter_mut().rev().for_each(f);
+    } else {
+        points.iter_mut().for_each(f);
+    }
 }
 
 /// Applies the accumulated impulses of the constraints of one pair of bodies (warm start).
