@@ -4,7 +4,8 @@
 Usage (from the repository root):
 
     python3 -m venv /tmp/venv-mj && /tmp/venv-mj/bin/pip install mujoco gymnasium numpy
-    /tmp/venv-mj/bin/python tools/mjcf_fixtures.py
+    /tmp/venv-mj/bin/python tools/mjcf_fixtures.py            # every fixture but the tendon models'
+    /tmp/venv-mj/bin/python tools/mjcf_fixtures.py --tendons   # the models with tendons only
 
 For each model it copies the XML (the Allegro hand is read in place, with its meshes) into crates/tumble/tests/fixtures/mjcf/ (the Gymnasium files as
 they are, MIT; the Menagerie robots from ../shared/menagerie/ with their LICENSE, without meshes:
@@ -18,6 +19,9 @@ random states and, in MuJoCo's own conventions (tumble's tests map them with Muj
 - qacc: forward dynamics with contacts, joint limits, equality constraints, friction loss and
   actuators disabled (model.opt.disableflags), so that qacc = M^-1 (qfrc_passive - qfrc_bias);
 - xpos, xquat (w x y z) of every body from mj_kinematics (the world first);
+- for the models with tendons (written by `--tendons`, without touching the others): ctrl, random
+  controls within each ctrlrange, and qfrc_actuator, MuJoCo's actuator forces at that state with
+  actuation enabled (forceranges applied), and ten_length, the tendons' lengths;
 - body_velocity: mj_objectVelocity of every body frame (mjOBJ_XBODY; mjOBJ_BODY is the inertial frame), local: [omega; v] of the body origin in
   the body frame (to check the free joint's qvel: linear in the world, angular in the body frame).
 """
@@ -43,6 +47,9 @@ MENAGERIE_MODELS = [("anymal_c", "anybotics_anymal_c", "anymal_c.xml"), ("iiwa14
 # read in place from ../shared/menagerie/ (their meshes are needed: inertia from mesh geoms)
 MENAGERIE_IN_PLACE = [("allegro_right", "wonik_allegro", "right_hand.xml")]
 # refused (closed loops): their XML copied for the refusal tests
+# models with fixed tendons and actuators on them: their fixtures also hold actuator forces
+TENDON_SYNTHETIC = ["tendons"]
+TENDON_MENAGERIE = [("shadow_right", "shadow_hand", "right_hand.xml")]
 MENAGERIE_REFUSED = [("robotiq_2f85", ["2f85.xml", "scene.xml"]), ("agility_cassie", ["cassie.xml"])]
 # small models written for the conventions (orientation forms, eulerseq, defaults, inertia from geoms)
 SYNTHETIC = ["orientations", "eulerseq_radian", "eulerseq_mixed", "defaults_inertia"]
@@ -73,7 +80,31 @@ def random_state(m, rng):
     return qpos, qvel
 
 
-def fixture(name, path, rng):
+def random_ctrl(m, rng):
+    """A control per actuator: uniform in its ctrlrange (clamped a little outside, to test the
+    clamp), or normal when it has none."""
+    u = rng.normal(size=m.nu)
+    for a in range(m.nu):
+        if m.actuator_ctrllimited[a]:
+            lo, hi = m.actuator_ctrlrange[a]
+            u[a] = rng.uniform(lo - 0.2 * (hi - lo), hi + 0.2 * (hi - lo))
+    return u
+
+
+def actuator_forces(m, qpos, qvel, ctrl):
+    """qfrc_actuator and ten_length at a state, with actuation enabled."""
+    flags = m.opt.disableflags
+    m.opt.disableflags = flags & ~int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
+    d = mujoco.MjData(m)
+    d.qpos[:] = qpos
+    d.qvel[:] = qvel
+    d.ctrl[:] = ctrl
+    mujoco.mj_forward(m, d)
+    m.opt.disableflags = flags
+    return d.qfrc_actuator.tolist(), d.ten_length.tolist()
+
+
+def fixture(name, path, rng, actuated=False):
     m = mujoco.MjModel.from_xml_path(path)
     m.opt.disableflags |= DISABLE
     d = mujoco.MjData(m)
@@ -100,6 +131,10 @@ def fixture(name, path, rng):
             "xquat": d.xquat.reshape(-1).tolist(),
             "body_velocity": vel.reshape(-1).tolist(),
         })
+        if actuated:
+            ctrl = random_ctrl(m, rng)
+            states[-1]["ctrl"] = ctrl.tolist()
+            states[-1]["qfrc_actuator"], states[-1]["ten_length"] = actuator_forces(m, qpos, qvel, ctrl)
     names = lambda kind, n: [mujoco.mj_id2name(m, kind, i) for i in range(n)]
     return {
         "model": name,
@@ -122,7 +157,25 @@ def write(name, data):
         f.write("\n")
 
 
+def tendons():
+    """The models with tendons, with their own random states (the other fixtures are untouched)."""
+    rng = np.random.default_rng(24)
+    for name in TENDON_SYNTHETIC:
+        write(name, fixture(name, os.path.join(OUT, "synthetic", name + ".xml"), rng, actuated=True))
+        print(name)
+    for name, folder, file in TENDON_MENAGERIE:
+        src = os.path.join(MENAGERIE, folder, file)
+        dst = os.path.join(OUT, "menagerie", file.replace(".xml", "_" + folder + ".xml"))
+        shutil.copyfile(src, dst)
+        shutil.copyfile(os.path.join(MENAGERIE, folder, "LICENSE"), os.path.join(OUT, "menagerie", name + ".LICENSE"))
+        write(name, fixture(name, src, rng, actuated=True))
+        print(name)
+
+
 def main():
+    if sys.argv[1:] == ["--tendons"]:
+        tendons()
+        return
     os.makedirs(os.path.join(OUT, "gymnasium"), exist_ok=True)
     os.makedirs(os.path.join(OUT, "menagerie"), exist_ok=True)
     rng = np.random.default_rng(23)

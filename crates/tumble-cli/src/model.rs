@@ -196,6 +196,25 @@ fn table(model: &MultibodyModel, layout: &Value) -> String {
         let resolved = meshes.iter().filter(|m| m.path.is_some()).count();
         text.push_str(&format!("meshes: {} named, {resolved} resolved (not needed for dynamics)\n", meshes.len()));
     }
+    for t in &model.tendons {
+        // L = L₀ + Σ c q, and what acts along it
+        let terms: Vec<String> =
+            t.terms.iter().map(|term| format!("{} {}", term.coef, model.bodies[term.body].joint.name)).collect();
+        let mut acts = Vec::new();
+        if t.stiffness != 0.0 {
+            acts.push(format!("stiffness {} to {}..{}", t.stiffness, t.spring_length.0, t.spring_length.1));
+        }
+        if t.damping != 0.0 {
+            acts.push(format!("damping {}", t.damping));
+        }
+        text.push_str(&format!(
+            "tendon {}: L = {} + {}{}\n",
+            t.name,
+            t.offset,
+            terms.join(" + "),
+            if acts.is_empty() { String::new() } else { format!("; {}", acts.join(", ")) }
+        ));
+    }
     for w in &model.warnings {
         text.push_str(&format!("warning: {w}\n"));
     }

@@ -183,7 +183,7 @@ impl World {
         }
         let ctrl = finite_vector(ctrl, "ctrl", n, "(nu_actuators,) controls")?;
         let mut extra = vec![0.0; info.nv];
-        self.world.robots[r].ctrl_torque(&ctrl, &mut extra).map_err(|e| crate::bad(e.to_string()))?;
+        self.world.robots[r].set_ctrl(&ctrl, &mut extra).map_err(|e| crate::bad(e.to_string()))?;
         apply_torque(&mut self.world, &info.base_tau, r, &extra);
         Ok(())
     }

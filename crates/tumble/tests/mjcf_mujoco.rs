@@ -36,6 +36,14 @@ struct State {
     xpos: Vec<f64>,
     xquat: Vec<f64>,
     body_velocity: Vec<f64>,
+    /// Models with tendons only: random controls, MuJoCo's actuator forces there (actuation on) and
+    /// the tendons' lengths.
+    #[serde(default)]
+    ctrl: Vec<f64>,
+    #[serde(default)]
+    qfrc_actuator: Vec<f64>,
+    #[serde(default)]
+    ten_length: Vec<f64>,
 }
 
 const DYNAMICS_TOL: f64 = 1e-10;
@@ -290,4 +298,67 @@ fn allegro_right_hand_inertia_from_meshes() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
     assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
     check("allegro_right", path);
+}
+
+/// Fixed tendons (`tools/mjcf_fixtures.py --tendons`): a tendon with a spring and damper from a
+/// default class, one with a dead-band spring (`springlength` two values) over a hinge and a slide
+/// with `ref`, one without; the spring lengths MuJoCo computes at `qpos_spring`. The dynamics and
+/// the passive forces as for every model, and then the tendons' lengths and the actuator forces
+/// (a `position` servo on a tendon with a `forcerange`, a `motor` with a gear and a `general` with
+/// an affine bias on tendons, a servo on a joint) at random controls, some outside their
+/// `ctrlrange`.
+#[test]
+fn synthetic_tendons() {
+    check("tendons", dir().join("synthetic/tendons.xml"));
+    check_actuators("tendons", &dir().join("synthetic/tendons.xml"), MjcfOptions::default());
+}
+
+/// The Shadow hand (Menagerie): four fixed tendons couple each finger's two distal joints, and a
+/// `position` actuator with a `forcerange` drives each tendon; joint `frictionloss` dropped here
+/// (disabled in MuJoCo's fixture, as for every model). Its actuator forces are in the fixture for
+/// when a scene can load it (its friction loss).
+#[test]
+fn shadow_hand() {
+    let path = dir().join("menagerie/right_hand_shadow_hand.xml");
+    let options = MjcfOptions { drop_frictionloss: true };
+    check_with("shadow_right", path, options);
+}
+
+/// The tendons' lengths and the joint forces of the actuators and passive elements of the model
+/// as a scene's robot holds them (`[[robot]] mjcf`, every actuator at the fixture's control):
+/// MuJoCo's `ten_length` and `qfrc_actuator + qfrc_passive`.
+fn check_actuators(name: &str, file: &Path, options: MjcfOptions) {
+    let fx = fixture(name);
+    let mjcf: Mjcf = load_mjcf(file, options).unwrap();
+    let nv = mjcf.model.nv();
+    let (mut length_err, mut force_err) = (0.0_f64, 0.0_f64);
+    for (k, s) in fx.states.iter().enumerate() {
+        assert_eq!(s.ctrl.len(), mjcf.actuators.len(), "{name}: one control per actuator");
+        let (q, v) = mjcf.layout.state_from_mujoco(&s.qpos, &s.qvel).unwrap();
+        let lengths: Vec<f64> = mjcf.model.tendons.iter().map(|t| t.length(&q)).collect();
+        length_err = length_err.max(relative(&lengths, &s.ten_length));
+
+        let dir = tempfile::tempdir().unwrap();
+        let ctrl: Vec<String> =
+            mjcf.actuators.iter().zip(&s.ctrl).map(|(a, u)| format!("{} = {u:e}", a.name)).collect();
+        let scene_text = format!(
+            "version = 1\n[world]\ndt = 1e-3\nduration = 0.001\n[[robot]]\nname = \"r\"\nmjcf = {:?}\nctrl = {{ {} }}\n",
+            file.display().to_string(),
+            ctrl.join(", ")
+        );
+        let scene_path = dir.path().join("scene.toml");
+        std::fs::write(&scene_path, scene_text).unwrap();
+        let scene = tumble::scene::load(&scene_path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let robot = &scene.world.robots[0];
+        let mut tau = vec![0.0; nv];
+        robot.control.joint_forces(&robot.model, &q, &v, &mut tau).unwrap();
+        let tau_mj = mjcf.layout.force_to_mujoco(&q, &tau).unwrap();
+        let want: Vec<f64> = s.qfrc_actuator.iter().zip(&s.qfrc_passive).map(|(a, p)| a + p).collect();
+        let err = relative(&tau_mj, &want);
+        assert!(err.is_finite(), "{name}: state {k}");
+        force_err = force_err.max(err);
+    }
+    eprintln!("{name:>26}: tendon lengths {length_err:.1e}  actuator + passive forces {force_err:.1e}");
+    assert!(length_err <= POSE_TOL, "{name}: tendon lengths differ from MuJoCo's by {length_err:e} relative");
+    assert!(force_err <= DYNAMICS_TOL, "{name}: actuator forces differ from MuJoCo's by {force_err:e} relative");
 }

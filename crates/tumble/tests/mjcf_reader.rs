@@ -55,7 +55,7 @@ fn refusals_name_the_element_attribute_and_position() {
         ("<mujoco><tendon><spatial/></tendon></mujoco>", "<spatial>: not supported (spatial tendons)"),
         (
             "<mujoco><tendon><fixed range=\"0 1\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>",
-            "<fixed range>: not supported (a fixed tendon with a limit",
+            "<fixed range>: not supported (a limited tendon",
         ),
         ("<mujoco><equality><weld body1=\"a\"/></equality></mujoco>", "<weld>: not supported (an <equality>"),
         (&model("<geom type=\"hfield\" hfield=\"h\"/>"), "<geom type>: not supported (heightfields)"),
@@ -65,10 +65,10 @@ fn refusals_name_the_element_attribute_and_position() {
         ("<mujoco><extension><plugin plugin=\"x\"/></extension></mujoco>", "<extension>: not supported"),
         (
             &format!(
-                "{}<actuator><motor tendon=\"t\"/></actuator></mujoco>",
+                "{}<actuator><motor site=\"s\"/></actuator></mujoco>",
                 &model("<joint/>")[..model("<joint/>").len() - 10]
             ),
-            "<motor tendon>: not supported",
+            "<motor site>: not supported (actuators on anything but a joint or a fixed tendon)",
         ),
         (
             &format!(
@@ -96,6 +96,27 @@ fn malformed_input_names_its_position() {
         (&model("<geom type=\"sphere\" fromto=\"0 0 0 1 0 0\" size=\"0.1\"/>"), "<geom fromto>: fromto on a sphere"),
         (&model("<geom type=\"box\" size=\"0.1 0.2\"/>"), "<geom size>: the third half size must be > 0"),
         (&model("<joint name=\"j\"/><joint name=\"j\"/>"), "repeated joint name 'j'"),
+        (
+            &format!(
+                "{}<actuator><motor tendon=\"t\"/></actuator></mujoco>",
+                &model("<joint/>")[..model("<joint/>").len() - 10]
+            ),
+            "<motor tendon>: no tendon named 't'",
+        ),
+        (
+            &format!(
+                "{}<tendon><fixed name=\"t\"><joint joint=\"nope\" coef=\"1\"/></fixed></tendon></mujoco>",
+                &model("<joint/>")[..model("<joint/>").len() - 10]
+            ),
+            "<joint joint>: no joint named 'nope'",
+        ),
+        (
+            &format!(
+                "{}<tendon><fixed name=\"t\"><joint joint=\"j\"/></fixed></tendon></mujoco>",
+                &model("<joint name=\"j\"/>")[..model("<joint name=\"j\"/>").len() - 10]
+            ),
+            "<joint>: missing attribute 'coef'",
+        ),
         ("<mujoco><worldbody><body quat=\"1 0 0 0\" euler=\"0 0 0\"/></worldbody></mujoco>", "orientation given twice"),
         ("<mujoco><worldbody><body><joint/></body></worldbody></mujoco>", "moves a subtree without mass"),
         ("<mujoco><include file=\"missing.xml\"/></mujoco>", "test.xml:1:18: <include file>: cannot read the file"),

@@ -22,6 +22,7 @@
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
 //! | [`passive`]   | joint damping and springs, `τ = −d v − k (q − q_ref)`        | `O(n)`          |
+//! | [`tendon`]    | fixed tendons `L = L₀ + Σ c q`: spring-dampers `τ = J_tᵀ f`   | `O(terms)`      |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
 //! | [`limits`]    | joint position limits: speculative impulse + constraint force | `O(n d)` when active |
 //!
@@ -49,6 +50,7 @@ pub mod reduce;
 pub mod rnea;
 pub mod simulate;
 pub mod spatial;
+pub mod tendon;
 pub mod urdf;
 mod urdf_vocabulary;
 pub mod workspace;
@@ -69,7 +71,8 @@ pub use passive::{add_passive_forces, passive_forces, spring_energy};
 pub use reduce::{kept_coordinates, reduced_model, LockError};
 pub(crate) use rnea::bias_forces_placed;
 pub use rnea::{bias_forces, rnea};
-pub use simulate::{ContactChange, Control, Method, PdWave, Simulator};
+pub use simulate::{ContactChange, Control, Method, PdWave, Simulator, TendonDrive};
 pub use spatial::{ArticulatedInertia, Force, Motion, RigidInertia, Xform};
+pub use tendon::{FixedTendon, TendonTerm};
 pub use urdf::{load_urdf, parse_urdf, ChildOrder, Massless, UrdfError, UrdfErrorKind, UrdfOptions};
 pub use workspace::{LengthError, TooLarge, Workspace, MAX_DENSE_NV};

@@ -237,6 +237,10 @@ pub struct MultibodyModel {
     /// The joints locked by [`reduced_model`](super::reduce::reduced_model) and the values (their
     /// `q`) they are held at, in the source model's order; empty for a model as read.
     pub locked: Vec<(String, Vec<f64>)>,
+    /// Fixed tendons (MJCF `<tendon><fixed>`): linear couplings of joint positions whose springs,
+    /// dampers, actuators and limits act on several joints at once ([`super::tendon`]); empty
+    /// from URDF.
+    pub tendons: Vec<super::tendon::FixedTendon>,
     nq: usize,
     nv: usize,
     /// Motion subspace columns, one per velocity coordinate (child frame).
@@ -611,6 +615,7 @@ impl ModelBuilder {
             warnings: self.warnings,
             geometries: self.geometries,
             locked: Vec::new(),
+            tendons: Vec::new(),
             nq: self.nq,
             nv: self.nv,
             subspace,

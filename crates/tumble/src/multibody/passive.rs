@@ -7,6 +7,8 @@
 //! τ_passive,k = −d v_k − k_s (q_k − q_ref)      (the spring on one-coordinate joints only)
 //! ```
 //!
+//! and along each fixed tendon ([`super::tendon`]) `τ += J_tᵀ (−k (L − L_s) − d L̇)`.
+//!
 //! Inputs: `q` (nq), `v` (nv). Output: `τ_passive` (nv; N·m or N), added to the joint forces by the
 //! simulator and by `tumble dynamics`. Only joints with a non-zero coefficient are touched, so a
 //! model without any (every URDF model) computes exactly what it did before. Cost `O(n)`.
@@ -46,9 +48,11 @@ pub(crate) fn add_unchecked(model: &MultibodyModel, q: &[f64], v: &[f64], tau: &
             tau[j.v_index] -= d.stiffness * (q[j.q_index] - d.spring_ref);
         }
     }
+    // the fixed tendons' springs and dampers, τ += J_tᵀ (−k (L − L_s) − d L̇)
+    super::tendon::add_passive_unchecked(model, q, v, tau);
 }
 
-/// The springs' potential energy `½ Σ k_s (q − q_ref)²` (J).
+/// The springs' potential energy `½ Σ k_s (q − q_ref)²` (J), the tendons' springs included.
 pub fn spring_energy(model: &MultibodyModel, q: &[f64]) -> Result<f64, LengthError> {
     check_len("q", q.len(), model.nq())?;
     let mut e = 0.0;
@@ -59,5 +63,5 @@ pub fn spring_energy(model: &MultibodyModel, q: &[f64]) -> Result<f64, LengthErr
             e += 0.5 * j.dynamics.stiffness * dq * dq;
         }
     }
-    Ok(e)
+    Ok(e + super::tendon::spring_energy_unchecked(model, q))
 }

@@ -120,6 +120,29 @@ pub fn reduced_model(model: &MultibodyModel, locked: &[&str], q_full: &[f64]) ->
     }
     // the frames in the full model's order, each on its owner
     reduced.frames = model.frames.iter().map(|f| reduced_frame(model, f, &owner, &is_locked)).collect();
+    // tendons: a locked joint's term is a constant length, L₀ += c q_locked
+    reduced.tendons = model
+        .tendons
+        .iter()
+        .map(|t| {
+            let mut kept = t.clone();
+            kept.terms.clear();
+            for term in &t.terms {
+                if is_locked[term.body] {
+                    kept.offset += term.coef * q_full[term.q_index];
+                } else if let Some(b) = owner[term.body].0 {
+                    let j = &reduced.bodies[b].joint;
+                    kept.terms.push(super::tendon::TendonTerm {
+                        body: b,
+                        q_index: j.q_index,
+                        v_index: j.v_index,
+                        ..*term
+                    });
+                }
+            }
+            kept
+        })
+        .collect();
     Ok(reduced)
 }
 

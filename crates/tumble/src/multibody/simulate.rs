@@ -45,6 +45,48 @@ pub struct Control {
     /// Periodic position targets: each sets `q*` of its coordinate at the start of every step
     /// ([`Control::follow_waves`]); empty for constant targets.
     pub waves: Vec<PdWave>,
+    /// Forces along fixed tendons (MJCF actuators on tendons), each acting on all the tendon's
+    /// joints; empty for a URDF robot.
+    pub tendons: Vec<TendonDrive>,
+}
+
+/// A force along a fixed tendon of the model ([`super::tendon`]), an MJCF actuator with a tendon
+/// transmission: with gear `g`, the actuator's length is `g L` and its force
+///
+/// ```text
+/// f = f₀ + b₁ g L + b₂ g L̇        clamped to [f_lo, f_hi] when limited
+/// τ += g J_tᵀ f                     (τ_i += g c_i f on each joint of the tendon)
+/// ```
+///
+/// `f₀ = k u + b₀` holds the control `u` (gain `k`) and the constant bias.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TendonDrive {
+    /// Index into [`MultibodyModel::tendons`].
+    pub tendon: usize,
+    /// `g`.
+    pub gear: f64,
+    /// `f₀` (N).
+    pub force: f64,
+    /// `b₁` (N/m): MuJoCo's `biasprm[1]` (`−kp` for a `position` actuator).
+    pub bias_length: f64,
+    /// `b₂` (N·s/m): `biasprm[2]` (`−kv`).
+    pub bias_rate: f64,
+    /// `forcerange` when the force is limited.
+    pub force_range: Option<(f64, f64)>,
+}
+
+impl TendonDrive {
+    /// `f(q, v)` before the clamp, and after it.
+    #[inline]
+    pub fn force(&self, model: &MultibodyModel, q: &[f64], v: &[f64]) -> (f64, f64) {
+        let t = &model.tendons[self.tendon];
+        let f = self.force + self.bias_length * self.gear * t.length(q) + self.bias_rate * self.gear * t.rate(v);
+        let applied = match self.force_range {
+            Some((lo, hi)) => f.max(lo).min(hi),
+            None => f,
+        };
+        (f, applied)
+    }
 }
 
 /// A position target that swings about a centre, `q*(t) = q̄ + A sin(2π f t + φ)`, held over each
@@ -85,6 +127,7 @@ impl Control {
             v_target: vec![0.0; nv],
             effort: vec![f64::INFINITY; nv],
             waves: Vec::new(),
+            tendons: Vec::new(),
         }
     }
 
@@ -157,6 +200,17 @@ impl Control {
             // passive: −c v (not clamped)
             tau[vi] = applied - self.damping[vi] * v[vi];
         }
+        // forces along tendons: τ += g J_tᵀ f, f clamped to its range
+        for d in &self.tendons {
+            let (commanded, applied) = d.force(model, q, v);
+            let tendon = &model.tendons[d.tendon];
+            if applied != commanded {
+                if let Some(c) = clamped.as_deref_mut() {
+                    tendon.terms.iter().for_each(|t| c[t.v_index] = true);
+                }
+            }
+            tendon.add_force(d.gear * applied, tau);
+        }
         // the joints' own damping and springs (the model's, zero from URDF): −d v − k (q − q_ref)
         super::passive::add_unchecked(model, q, v, tau);
     }
@@ -169,7 +223,11 @@ impl Control {
         check_len("control kd", self.kd.len(), nv)?;
         check_len("control q_target", self.q_target.len(), model.nq())?;
         check_len("control v_target", self.v_target.len(), nv)?;
-        check_len("control effort", self.effort.len(), nv)
+        check_len("control effort", self.effort.len(), nv)?;
+        match self.tendons.iter().find(|d| d.tendon >= model.tendons.len()) {
+            Some(d) => Err(LengthError { what: "control tendon index", got: d.tendon, expected: model.tendons.len() }),
+            None => Ok(()),
+        }
     }
 }
 

@@ -21,11 +21,11 @@ use super::error::{names_hint, nearest, num, nums, SceneError, Source};
 use super::schema::{CtrlDoc, DampingDoc, JointTable, JointValue, Loc, RobotDoc, Table};
 use super::{MAX_ANGULAR_SPEED, MAX_POSITION, QUAT_SILENT_TOLERANCE, QUAT_WARN_TOLERANCE};
 use crate::math::{DMat3, DQuat, DVec3};
-use crate::multibody::mjcf::{load_mjcf_leaving_out, ContactFilter, LeaveOut, Mjcf, MjcfOptions};
+use crate::multibody::mjcf::{load_mjcf_leaving_out, ContactFilter, LeaveOut, Mjcf, MjcfOptions, Transmission};
 use crate::multibody::spatial::Xform;
 use crate::multibody::{
     kept_coordinates, load_urdf, reduced_model, Control, FrameOrigin, JointKind, LockError, Massless, ModelError,
-    MultibodyModel, UrdfErrorKind, UrdfOptions,
+    MultibodyModel, TendonDrive, UrdfErrorKind, UrdfOptions,
 };
 use crate::world::Robot;
 use std::collections::HashMap;
@@ -437,8 +437,9 @@ impl RobotReader<'_, '_> {
             (0..model.nv()).map(|i| control.tau[i] != 0.0 || control.kp[i] != 0.0 || control.kd[i] != 0.0).collect();
         let mut driven = vec![0usize; model.nv()];
         for a in &m.actuators {
-            let j = model.joint_index(&a.joint).ok_or_else(|| {
-                self.mjcf_err(doc, format!("actuator `{}`: joint `{}` is not in the model", a.name, a.joint))
+            let Transmission::Joint(joint_name) = &a.target else { continue };
+            let j = model.joint_index(joint_name).ok_or_else(|| {
+                self.mjcf_err(doc, format!("actuator `{}`: joint `{}` is not in the model", a.name, joint_name))
             })?;
             let joint = &model.bodies[j].joint;
             if joint.kind.nv() != 1 {
@@ -448,7 +449,7 @@ impl RobotReader<'_, '_> {
                         "actuator `{}`: drives the {} joint `{}`; tumble drives hinges and slides only",
                         a.name,
                         joint.kind.name(),
-                        a.joint
+                        joint_name
                     ),
                 ));
             }
@@ -456,22 +457,9 @@ impl RobotReader<'_, '_> {
         }
         let mut drives = Vec::with_capacity(m.actuators.len());
         for (a, &u) in m.actuators.iter().zip(&ctrl) {
-            let j = model.joint_index(&a.joint).expect("checked above");
-            let vi = model.bodies[j].joint.v_index;
-            let drive = crate::world::ActuatorDrive {
-                name: a.name.clone(),
-                v_index: vi,
-                torque_per_ctrl: a.gear * a.gain,
-                ctrl_range: a.ctrl_range,
-                ctrl: u,
-            };
-            let u = drive.clamped(u);
-            drives.push(drive);
-            let reference = m.layout.joints.iter().find(|lj| lj.name == a.joint).map_or(0.0, |lj| lj.reference);
             let g = a.gear;
             let [b0, b1, b2] = a.bias;
-            let (stiffness, damping) = (-g * g * b1, -g * g * b2);
-            if stiffness < 0.0 || damping < 0.0 {
+            if b1 > 0.0 || b2 > 0.0 {
                 return Err(self.mjcf_err(
                     doc,
                     format!(
@@ -482,13 +470,63 @@ impl RobotReader<'_, '_> {
                     ),
                 ));
             }
+            let joint_name = match &a.target {
+                Transmission::Joint(name) => name,
+                Transmission::Tendon(k) => {
+                    // f = k u + b₀ + b₁ g L + b₂ g L̇ along the tendon, clamped to its forcerange
+                    let tendon = &model.tendons[*k];
+                    if let Some(t) = tendon.terms.iter().find(|t| commanded[t.v_index]) {
+                        return Err(self
+                            .mjcf_err(
+                                doc,
+                                format!(
+                                    "actuator `{}` drives tendon `{}` of joint `{}`, which `torque` or `[robot.pd]` drives too",
+                                    a.name, tendon.name, model.bodies[t.body].joint.name
+                                ),
+                            )
+                            .hint("drive a joint by its actuator (`ctrl`) or by the scene's `torque`/`pd`, not both"));
+                    }
+                    let drive = crate::world::ActuatorDrive {
+                        name: a.name.clone(),
+                        target: crate::world::DriveTarget::Tendon { drive: control.tendons.len() },
+                        gear: g,
+                        force_per_ctrl: a.gain,
+                        ctrl_range: a.ctrl_range,
+                        ctrl: u,
+                    };
+                    control.tendons.push(TendonDrive {
+                        tendon: *k,
+                        gear: g,
+                        force: a.gain * drive.clamped(u) + b0,
+                        bias_length: b1,
+                        bias_rate: b2,
+                        force_range: a.force_range,
+                    });
+                    drives.push(drive);
+                    continue;
+                }
+            };
+            let j = model.joint_index(joint_name).expect("checked above");
+            let vi = model.bodies[j].joint.v_index;
+            let drive = crate::world::ActuatorDrive {
+                name: a.name.clone(),
+                target: crate::world::DriveTarget::Joint { v_index: vi },
+                gear: g,
+                force_per_ctrl: a.gain,
+                ctrl_range: a.ctrl_range,
+                ctrl: u,
+            };
+            let u = drive.clamped(u);
+            drives.push(drive);
+            let reference = m.layout.joints.iter().find(|lj| &lj.name == joint_name).map_or(0.0, |lj| lj.reference);
+            let (stiffness, damping) = (-g * g * b1, -g * g * b2);
             if commanded[vi] {
                 return Err(self
                     .mjcf_err(
                         doc,
                         format!(
                             "actuator `{}` drives joint `{}`, which `torque` or `[robot.pd]` drives too",
-                            a.name, a.joint
+                            a.name, joint_name
                         ),
                     )
                     .hint("drive a joint by its actuator (`ctrl`) or by the scene's `torque`/`pd`, not both"));

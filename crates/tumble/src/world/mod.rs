@@ -14,7 +14,7 @@ mod threads;
 pub use crate::math::StateHasher;
 pub(crate) use crate::profile::Clock;
 pub use crate::profile::{PerStep, Profile};
-pub use robots::{robot_method, ActuatorDrive, JointSteps, LinkState, Robot};
+pub use robots::{robot_method, ActuatorDrive, CtrlError, DriveTarget, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
 /// Largest position (m), velocity (m/s) or angular velocity (rad/s) magnitude taken as a sane state;

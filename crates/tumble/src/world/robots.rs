@@ -33,20 +33,45 @@ use crate::multibody::fk::{forward_kinematics, frame_x_world};
 use crate::multibody::spatial::{Force, Motion, Xform};
 use crate::multibody::{Control, Frame, LengthError, Method, MultibodyModel, Simulator, Workspace};
 
-/// An MJCF actuator on a one-coordinate joint, as a robot's control holds it: its control `u`
-/// changes the joint force by `g k u` (gear × gain; the bias terms are the control's constant,
-/// stiffness and damping, which `u` does not change).
+/// An MJCF actuator as a robot's control holds it. Its control `u` changes its force by `k u`
+/// (gain `k`; the bias terms are in the control, which `u` does not change): on a joint with gear
+/// `g` the joint force by `g k u` (held in [`Control::tau`]), on a fixed tendon the tendon force
+/// `f₀` of its [`TendonDrive`](crate::multibody::TendonDrive) by `k u`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ActuatorDrive {
     pub name: String,
-    /// The velocity coordinate it drives.
-    pub v_index: usize,
-    /// `g k` (N·m or N per unit of control).
-    pub torque_per_ctrl: f64,
+    pub target: DriveTarget,
+    /// `g`.
+    pub gear: f64,
+    /// `k` (N or N·m per unit of control, before the gear).
+    pub force_per_ctrl: f64,
     /// `ctrlrange` when the control is limited.
     pub ctrl_range: Option<(f64, f64)>,
     /// The control that `control` holds (the scene's `ctrl`, 0 unless given).
     pub ctrl: f64,
+}
+
+/// What an [`ActuatorDrive`] acts on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DriveTarget {
+    /// A one-coordinate joint: its velocity coordinate.
+    Joint { v_index: usize },
+    /// A fixed tendon: the index of its drive in [`Control::tendons`].
+    Tendon { drive: usize },
+}
+
+/// Why controls cannot be turned into joint forces ([`Robot::ctrl_torque`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CtrlError {
+    #[error(transparent)]
+    Length(#[from] LengthError),
+    /// The force of an actuator on a tendon is clamped to its `forcerange` after the control is
+    /// added: no joint force independent of the state gives it.
+    #[error(
+        "actuator `{0}` acts on a tendon with a forcerange: its force is clamped after the control is added, so \
+         it has no equivalent joint force; set its control in the world (`set_ctrl`) instead"
+    )]
+    ClampedTendon(String),
 }
 
 impl ActuatorDrive {
@@ -164,12 +189,48 @@ impl Robot {
 
     /// The change of joint forces (nv, added to `out`) when the actuators' controls are `ctrl`
     /// (one per actuator, in [`Robot::actuators`] order, each clamped to its `ctrlrange`) instead
-    /// of those `control` holds: `Σ g k (u − u_held)` on each actuator's coordinate.
-    pub fn ctrl_torque(&self, ctrl: &[f64], out: &mut [f64]) -> Result<(), LengthError> {
+    /// of those `control` holds: `Σ g k (u − u_held)` on each joint actuator's coordinate, and
+    /// `g c_i k (u − u_held)` on each joint `i` of a tendon actuator's tendon. An actuator on a
+    /// tendon with a `forcerange` has no such joint force ([`CtrlError::ClampedTendon`]).
+    pub fn ctrl_torque(&self, ctrl: &[f64], out: &mut [f64]) -> Result<(), CtrlError> {
         crate::multibody::workspace::check_len("ctrl (one per actuator)", ctrl.len(), self.actuators.len())?;
         crate::multibody::workspace::check_len("joint forces (nv)", out.len(), self.model.nv())?;
+        for a in &self.actuators {
+            if let DriveTarget::Tendon { drive } = a.target {
+                if self.control.tendons[drive].force_range.is_some() {
+                    return Err(CtrlError::ClampedTendon(a.name.clone()));
+                }
+            }
+        }
         for (a, &u) in self.actuators.iter().zip(ctrl) {
-            out[a.v_index] += a.torque_per_ctrl * (a.clamped(u) - a.clamped(a.ctrl));
+            let du = a.force_per_ctrl * (a.clamped(u) - a.clamped(a.ctrl));
+            match a.target {
+                DriveTarget::Joint { v_index } => out[v_index] += a.gear * du,
+                DriveTarget::Tendon { drive } => {
+                    let d = &self.control.tendons[drive];
+                    self.model.tendons[d.tendon].add_force(d.gear * du, out);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets the actuators' controls (one per actuator, each clamped to its `ctrlrange`): a tendon
+    /// actuator's force `f₀` takes its control now (and holds it); the change of the joint
+    /// actuators' forces from the controls `control` holds is added to `out` (nv), as
+    /// [`Robot::ctrl_torque`] gives it, for the caller to apply.
+    pub fn set_ctrl(&mut self, ctrl: &[f64], out: &mut [f64]) -> Result<(), LengthError> {
+        crate::multibody::workspace::check_len("ctrl (one per actuator)", ctrl.len(), self.actuators.len())?;
+        crate::multibody::workspace::check_len("joint forces (nv)", out.len(), self.model.nv())?;
+        for (a, &u) in self.actuators.iter_mut().zip(ctrl) {
+            let du = a.force_per_ctrl * (a.clamped(u) - a.clamped(a.ctrl));
+            match a.target {
+                DriveTarget::Joint { v_index } => out[v_index] += a.gear * du,
+                DriveTarget::Tendon { drive } => {
+                    self.control.tendons[drive].force += du;
+                    a.ctrl = u;
+                }
+            }
         }
         Ok(())
     }

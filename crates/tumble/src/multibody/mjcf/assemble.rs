@@ -7,7 +7,7 @@ use super::filter::{pair_may_collide, ContactFilter, GeomFilter};
 use super::layout::{LayoutJoint, MujocoLayout};
 use super::pose::Pose;
 use super::xml::El;
-use super::{LeaveOut, MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind};
+use super::{LeaveOut, MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind, Transmission};
 use crate::math::DVec3;
 use crate::multibody::joint::{JointDynamics, JointKind, JointLimits};
 use crate::multibody::model::{FrameOrigin, GeometryRole, LinkGeometry, ModelBuilder};
@@ -240,7 +240,7 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// `<actuator>`: `motor`, `position`, `velocity` and `general` on joints, recorded.
+/// `<actuator>`: `motor`, `position`, `velocity` and `general` on joints and fixed tendons, recorded.
 pub(super) fn reader_actuators(
     reader: &Reader,
     root: &El,
@@ -294,15 +294,27 @@ pub(super) fn reader_actuators(
                 "interp",
                 "delay",
             ])?;
-            for t in ["tendon", "site", "body", "jointinparent", "cranksite"] {
+            for t in ["site", "body", "jointinparent", "cranksite"] {
                 if v.get(t).is_some() {
-                    return Err(v.err(t, unsupported("actuators on anything but a joint")));
+                    return Err(v.err(t, unsupported("actuators on anything but a joint or a fixed tendon")));
                 }
             }
-            let Some(joint) = v.str("joint") else { return Err(a.error(MjcfErrorKind::MissingAttribute("joint"))) };
-            if model.joint_index(joint).is_none() {
-                return Err(v.err("joint", MjcfErrorKind::Invalid(format!("no joint named '{joint}'"))));
-            }
+            let target = match (v.str("joint"), v.str("tendon")) {
+                (Some(_), Some(_)) => {
+                    return Err(v.err("tendon", MjcfErrorKind::Invalid("both a joint and a tendon".into())))
+                }
+                (None, None) => return Err(a.error(MjcfErrorKind::MissingAttribute("joint"))),
+                (Some(joint), None) => {
+                    if model.joint_index(joint).is_none() {
+                        return Err(v.err("joint", MjcfErrorKind::Invalid(format!("no joint named '{joint}'"))));
+                    }
+                    Transmission::Joint(joint.to_string())
+                }
+                (None, Some(tendon)) => match model.tendons.iter().position(|t| t.name == tendon) {
+                    Some(k) => Transmission::Tendon(k),
+                    None => return Err(v.err("tendon", MjcfErrorKind::Invalid(format!("no tendon named '{tendon}'")))),
+                },
+            };
             v.refuse_unless("dyntype", |s| s == "none", "actuator activation dynamics")?;
             v.refuse_unless("gaintype", |s| s == "fixed", "a gain that is not fixed")?;
             v.refuse_unless("biastype", |s| s == "none" || s == "affine", "a bias that is not affine")?;
@@ -343,7 +355,7 @@ pub(super) fn reader_actuators(
             out.push(MjcfActuator {
                 name: v.str("name").map(str::to_string).unwrap_or_else(|| format!("actuator{}", out.len())),
                 kind: kind.to_string(),
-                joint: joint.to_string(),
+                target,
                 gear: gear.first().copied().unwrap_or(1.0),
                 gain,
                 bias,

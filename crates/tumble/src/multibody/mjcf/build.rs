@@ -131,12 +131,6 @@ pub(super) fn build_leaving_out(
     }
     let defaults = Defaults::read(root)?;
     let compiler = read_compiler(root, dir)?;
-    let mut tendon_warnings = Vec::new();
-    for el in root.children.iter().filter(|e| e.tag == "tendon") {
-        for t in &el.children {
-            inert_tendon(t, &defaults, &compiler, &mut tendon_warnings)?;
-        }
-    }
     let mut reader = Reader {
         defaults: &defaults,
         compiler,
@@ -150,7 +144,6 @@ pub(super) fn build_leaving_out(
         joint_names: HashMap::new(),
         body_names: HashMap::new(),
     };
-    reader.warnings.extend(tendon_warnings);
     let option = reader.option(root)?;
     for el in root.children.iter().filter(|e| e.tag == "asset") {
         reader.assets(el)?;
@@ -170,8 +163,11 @@ pub(super) fn build_leaving_out(
         ))));
     }
     let (model, layout, bodies, filter) = reader.assemble(&model_name, root, option.gravity, leave_out, &excludes)?;
-    let actuators = super::assemble::reader_actuators(&reader, root, &model)?;
     let mut model = model;
+    model.tendons = super::tendon::read_tendons(&mut reader, root, &model, &layout)?;
+    // what reading the tendons noticed (the soft parameters), after the tree's remarks
+    model.warnings.append(&mut reader.warnings);
+    let actuators = super::assemble::reader_actuators(&reader, root, &model)?;
     if !actuators.is_empty() {
         model.warnings.push(format!(
             "{} actuators read: a scene's `[[robot]] mjcf` drives them by `ctrl`; the model alone (`tumble model`, \
@@ -186,71 +182,6 @@ pub(super) fn build_leaving_out(
         Vec::new()
     };
     Ok(Mjcf { model, option, layout, actuators, excludes, bodies, free_bodies, filter, keyframes })
-}
-
-/// A `<fixed>` tendon that exerts nothing (no limit, spring, damping, friction or armature; no
-/// actuator may act on it, those are refused) is accepted with a warning; anything else is refused.
-fn inert_tendon(t: &El, defaults: &Defaults, compiler: &Compiler, warnings: &mut Vec<String>) -> Result<(), MjcfError> {
-    if t.tag != "fixed" {
-        return Err(t.error(unsupported("spatial tendons")));
-    }
-    let class = t.attr("class").map(|a| a.value.clone()).unwrap_or_else(|| "main".into());
-    if !defaults.has(&class) {
-        return Err(t.attr_error("class", MjcfErrorKind::Invalid(format!("no default class '{class}'"))));
-    }
-    let mut v = View::new(t, Some((defaults, class)));
-    // tendon defaults are stored under "tendon"; the element's tag is "fixed"
-    v.set_default_tag("tendon");
-    v.check_known(&[
-        "name",
-        "class",
-        "group",
-        "limited",
-        "actuatorfrclimited",
-        "range",
-        "actuatorfrcrange",
-        "solreflimit",
-        "solimplimit",
-        "solreffriction",
-        "solimpfriction",
-        "frictionloss",
-        "springlength",
-        "width",
-        "material",
-        "margin",
-        "stiffness",
-        "damping",
-        "armature",
-        "rgba",
-        "user",
-    ])?;
-    let why = "a fixed tendon with a limit, spring, damping, friction or armature: tendons are not built yet";
-    let limited = match v.keyword("limited", &["true", "false", "auto"])?.unwrap_or("auto") {
-        "true" => true,
-        "false" => false,
-        _ => compiler.autolimits && v.get("range").is_some(),
-    };
-    if limited {
-        return Err(v.err(if v.get("range").is_some() { "range" } else { "limited" }, unsupported(why)));
-    }
-    for attr in ["stiffness", "damping", "frictionloss", "armature"] {
-        v.refuse_unless(attr, all_zero, why)?;
-    }
-    for j in &t.children {
-        let jv = View::new(j, None);
-        if j.tag != "joint" {
-            return Err(j.error(MjcfErrorKind::Invalid(format!("unknown element <{}> in <fixed>", j.tag))));
-        }
-        jv.check_known(&["joint", "coef"])?;
-    }
-    warnings.push(format!(
-        "{}:{}:{}: <fixed{}>: read and ignored: it has no limit, spring, damping or actuator, so it exerts no force",
-        t.pos.file,
-        t.pos.line,
-        t.pos.column,
-        t.attr("name").map(|a| format!(" name=\"{}\"", a.value)).unwrap_or_default()
-    ));
-    Ok(())
 }
 
 pub(super) fn unsupported(why: &str) -> MjcfErrorKind {

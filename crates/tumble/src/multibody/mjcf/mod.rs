@@ -32,6 +32,7 @@ mod keyframe;
 pub mod layout;
 mod mesh_inertia;
 mod pose;
+mod tendon;
 mod tree;
 mod xml;
 
@@ -158,7 +159,8 @@ pub struct MjcfOption {
 }
 
 /// An actuator as read (scenes drive it under a constant `ctrl`, `scene::robot`): force
-/// `gear · (gain · ctrl + bias₀ + bias₁ q + bias₂ q̇)` on its joint, with MuJoCo's `motor`,
+/// `gear · (gain · ctrl + bias₀ + bias₁ l + bias₂ l̇)` on its joint or tendon (`l = gear · qpos`,
+/// or `gear · L` for a tendon of length `L`), with MuJoCo's `motor`,
 /// `position` (`gain = kp`, `bias = [0, −kp, −kv]`), `velocity` (`gain = kv`, `bias = [0, 0, −kv]`)
 /// and `general` (fixed gain, affine or no bias).
 #[derive(Debug, Clone, PartialEq)]
@@ -166,8 +168,8 @@ pub struct MjcfActuator {
     pub name: String,
     /// The element (`motor`, `position`, `velocity`, `general`).
     pub kind: String,
-    /// The joint it drives (a tumble joint name).
-    pub joint: String,
+    /// What it drives: a joint or a fixed tendon.
+    pub target: Transmission,
     pub gear: f64,
     pub gain: f64,
     pub bias: [f64; 3],
@@ -175,6 +177,15 @@ pub struct MjcfActuator {
     pub ctrl_range: Option<(f64, f64)>,
     /// `forcerange` when force is limited.
     pub force_range: Option<(f64, f64)>,
+}
+
+/// An actuator's transmission: what its force acts on.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Transmission {
+    /// A hinge or slide joint (a tumble joint name): the joint takes `gear · f`.
+    Joint(String),
+    /// A fixed tendon (index into the model's `tendons`): each of its joints takes `gear · c_i · f`.
+    Tendon(usize),
 }
 
 /// A model read from MJCF: the tree and what MJCF adds to it.
