@@ -181,9 +181,11 @@ impl Model {
     }
 
     /// The joint forces `(..., nv)` that the actuators' controls `ctrl` `(..., n_actuators)` add to a
-    /// robot's (each control clamped to its `ctrlrange`; gear × gain × ctrl on its joint): what
-    /// `World.set_ctrl` applies, and for a one-robot model a rollout's `control` that drives the
-    /// actuators by `ctrl` at every step.
+    /// robot's (each control clamped to its `ctrlrange`; gear × gain × ctrl on its joint, and on
+    /// each joint `i` of a fixed tendon gear × c_i × gain × ctrl): what `World.set_ctrl` applies,
+    /// and for a one-robot model a rollout's `control` that drives the actuators by `ctrl` at every
+    /// step. An actuator on a tendon with a `forcerange` is refused (its clamp comes after the
+    /// control: drive it with `World.set_ctrl`).
     #[pyo3(signature = (ctrl, robot = None))]
     fn ctrl_torque<'py>(
         &self,

@@ -168,8 +168,10 @@ impl World {
 
     /// Controls of a robot's MJCF actuators, held until changed: `ctrl` (nu_actuators,) in the
     /// order of `Model.actuator_names`, each clamped to its `ctrlrange`. An actuator with gear `g`
-    /// and gain `k` adds `g k u` to its joint's force (its bias acts at any `ctrl`); like
-    /// `set_torque`, this replaces the joint forces that `set_torque` or an earlier `set_ctrl` gave.
+    /// and gain `k` adds `g k u` to its joint's force (its bias acts at any `ctrl`); one on a fixed
+    /// tendon sets the tendon's force `k u + bias` (clamped to its `forcerange`), which each joint
+    /// `i` of the tendon takes times `g c_i`. Like `set_torque`, this replaces the joint forces that
+    /// `set_torque` or an earlier `set_ctrl` gave.
     fn set_ctrl(&mut self, robot: &Bound<'_, PyAny>, ctrl: &Bound<'_, PyAny>) -> PyResult<()> {
         let r = self.robot(Some(robot))?;
         let model = self.model.get();
