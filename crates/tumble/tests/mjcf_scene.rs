@@ -99,9 +99,18 @@ fn the_gymnasium_ant_comes_to_rest_on_the_floor() {
     std::fs::write(&path, text).unwrap();
     let mut scene = scene::load(&path).unwrap();
     let steps = scene.world.config.step_count();
+    // a passive robot under zero control: its energy (the joints' armature counted, ½ a v²) never
+    // rises above its lowest value so far; without the armature's share the legs' sag, taken up by
+    // the floor, looked like a 0.03 J gain
+    let (mut lowest, mut gain) = (f64::INFINITY, 0.0_f64);
     for _ in 0..steps {
         scene.world.step().unwrap();
+        let e = scene.world.robots[0].energy();
+        lowest = lowest.min(e);
+        gain = gain.max(e - lowest);
     }
+    eprintln!("ant: largest energy gain {gain:.2e} J");
+    assert!(gain <= 1e-9, "the ant gained {gain} J");
     let robot = &scene.world.robots[0];
     let (q, v) = (robot.q(), robot.v());
     assert!(q.iter().chain(v).all(|x| x.is_finite()));
@@ -150,4 +159,30 @@ fn bad_mjcf_robot_entries_name_the_field() {
     assert!(e.contains("robot[0].mjcf") && e.contains("missing.xml"), "{e}");
     // the scene file's line and column (line 8: the entry's second line)
     assert!(e_line().contains("scene.toml:8:18"), "{}", e_line());
+}
+
+/// A robot's kinetic energy counts its joints' armature: `T = ½ vᵀ M v` with the mass matrix of
+/// the dynamics (CRBA, `M_kk += a_k`), for the Gymnasium Ant (armature 1 on its eight hinges).
+#[test]
+fn a_robots_kinetic_energy_counts_the_armature() {
+    let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/ant.xml");
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("version = 1\n[world]\ndt = 1e-3\n[[robot]]\nname = \"ant\"\nmjcf = {:?}\n", ant.display().to_string());
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let mut scene = scene::load(&path).unwrap();
+    let robot = &mut scene.world.robots[0];
+    let nv = robot.model.nv();
+    let mut q = robot.q().to_vec();
+    for (k, x) in q.iter_mut().enumerate().skip(7) {
+        *x = 0.1 * k as f64;
+    }
+    let v: Vec<f64> = (0..nv).map(|k| 0.3 * (k as f64 + 1.0).sin()).collect();
+    robot.set_state(&q, &v);
+    let mut ws = tumble::multibody::Workspace::new(&robot.model);
+    let m = tumble::multibody::crba(&robot.model, &mut ws, &q).unwrap().clone();
+    let vm = nalgebra::DVector::from_column_slice(&v);
+    let half_vmv = 0.5 * vm.dot(&(&m * &vm));
+    let t = robot.kinetic_energy();
+    assert!((t - half_vmv).abs() <= 1e-12 * half_vmv, "T = {t}, ½ vᵀ M v = {half_vmv}");
 }

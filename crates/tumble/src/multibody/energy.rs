@@ -17,12 +17,18 @@ pub fn kinetic_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64], v: 
     forward_kinematics(model, ws, q, v)?;
     // T = ½ Σ v_iᵀ I_i v_i
     let mut t: f64 = model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum();
-    // + ½ Σ a_k v_k²
+    Ok(t + armature_energy(model, v))
+}
+
+/// The kinetic energy of the joints' armature (their rotors' reflected inertia), `½ Σ a_k v_k²`
+/// (J); zero for a model without armature (every URDF model). `v` has length nv.
+pub fn armature_energy(model: &MultibodyModel, v: &[f64]) -> f64 {
+    let mut t = 0.0;
     for b in model.bodies.iter().filter(|b| b.joint.dynamics.armature != 0.0) {
         let j = &b.joint;
         t += 0.5 * j.dynamics.armature * v[j.v_index..j.v_index + j.kind.nv()].iter().map(|x| x * x).sum::<f64>();
     }
-    Ok(t)
+    t
 }
 
 /// Gravitational potential energy `V(q) = −Σ m_i g · c_i` of the moving bodies (J).

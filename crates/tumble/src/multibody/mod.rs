@@ -57,7 +57,7 @@ pub mod workspace;
 
 pub use aba::{aba, AbaError};
 pub use crba::{crba, CrbaError};
-pub use energy::{center_of_mass, kinetic_energy, potential_energy};
+pub use energy::{armature_energy, center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
 pub use jacobian::frame_jacobian;
 pub use joint::{JointDynamics, JointKind, JointLimits};

@@ -374,6 +374,9 @@ impl Robot {
             potential -= b.inertia.mass * model.gravity.dot(c_world);
             momentum += ws.x_world[i].inv_apply_force(h_body);
         }
+        // the joints' armature (MJCF `armature`, a rotor's reflected inertia), ½ Σ a v², so that
+        // T = ½ vᵀ M v with the M the dynamics use (zero for a URDF robot)
+        kinetic += crate::multibody::armature_energy(model, &self.sim.v);
         // and the joints' springs (MJCF `stiffness`), ½ k (q − q_ref)²: with them a passive robot's
         // mechanical energy only falls (zero for a URDF robot, which has no joint springs)
         potential += crate::multibody::spring_energy(model, &self.sim.q).unwrap_or(0.0);
