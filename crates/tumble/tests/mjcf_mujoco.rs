@@ -288,12 +288,13 @@ fn synthetic_defaults_inertia() {
 /// meshes among them (group 2, inside `inertiagrouprange`), with MuJoCo's `legacy` mesh inertia.
 /// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
 ///
-/// Not reached yet: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
-/// `qacc` to 7.5e-10 relative (bias 1.6e-11). The palm's mass, centre of mass and principal moments
-/// match MuJoCo's to 3e-14, so the gap is in another body; the suspect, unchecked, is MuJoCo's
-/// iterative eigen-decomposition (`mjuu_eig3`) of tiny finger inertias (1e-7 kg·m²).
+/// Not reached: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
+/// `qacc` to 7.5e-10 relative (bias 1.6e-11). `tools/mjcf_allegro_frames.py` shows the gap is
+/// MuJoCo's: its compiled inertia frames of the mesh bodies are off by up to 6e-7 rad (mass,
+/// centre of mass and principal moments agree to 5e-14); with exact frames MuJoCo's own M moves by
+/// 3.0e-10 and agrees with tumble's to 3e-15.
 #[test]
-#[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10 (docs/mjcf.md)"]
+#[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10: MuJoCo's compiled mesh inertia frames are off by up to 6e-7 rad (tools/mjcf_allegro_frames.py, docs/mjcf.md)"]
 fn allegro_right_hand_inertia_from_meshes() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
     assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
