@@ -104,3 +104,67 @@ def test_a_rollout_driven_by_ctrl_equals_set_ctrl_in_a_world(tmp_path):
             assert np.array_equal(w.state(), got[row, k])
     with pytest.raises(tumble.TumbleError, match="n_actuators"):
         m.ctrl_torque(np.zeros((4, 3)))
+
+
+# two hinges about y with springs (3 and 5 N·m/rad), a tendon L = q1 + 0.6 q2 over them, a servo
+# on it (kp 4, forcerange as given) and a geared motor on a second tendon
+FINGER = """<mujoco model="finger">
+  <compiler angle="radian"/>
+  <option timestep="0.001" integrator="Euler" gravity="0 0 0"/>
+  <worldbody>
+    <body name="a">
+      <joint name="j1" type="hinge" axis="0 1 0" stiffness="3" damping="0.5"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" contype="0" conaffinity="0"/>
+      <body name="b" pos="0.3 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0" stiffness="5" damping="0.5"/>
+        <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="flex"><joint joint="j1" coef="1"/><joint joint="j2" coef="0.6"/></fixed>
+    <fixed name="twist"><joint joint="j1" coef="0.5"/><joint joint="j2" coef="-1"/></fixed>
+  </tendon>
+  <actuator>
+    <position name="servo" tendon="flex" kp="4" FORCERANGE/>
+    <motor name="motor" tendon="twist" gear="2"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_set_ctrl_drives_an_actuator_on_a_tendon(tmp_path):
+    path = tmp_path / "finger.xml"
+    path.write_text(FINGER.replace("FORCERANGE", 'forcerange="-0.5 0.5"'))
+    m = tumble.Model.from_mjcf(path)
+    assert m.actuator_names() == ["servo", "motor"]
+    w = tumble.World(m)
+    # the servo alone: k_i q_i = c_i f, f = kp (u − L) clamped to 0.5 N
+    w.set_ctrl(0, [0.5, 0.0])
+    w.step(20000)
+    q = w.state()[:2]
+    f = min(4.0 * 0.5 / (1.0 + 4.0 * (1.0 / 3.0 + 0.36 / 5.0)), 0.5)
+    assert f == 0.5  # the forcerange holds it
+    assert np.allclose(q, [f / 3.0, 0.6 * f / 5.0], atol=1e-9), q
+    # the servo's force is clamped after the control is added: no joint-force equivalent
+    with pytest.raises(tumble.TumbleError, match="forcerange"):
+        m.ctrl_torque([0.5, 0.0])
+
+
+def test_a_rollout_driven_by_ctrl_on_tendons_equals_set_ctrl(tmp_path):
+    path = tmp_path / "finger.xml"
+    path.write_text(FINGER.replace("FORCERANGE", ""))
+    m = tumble.Model.from_mjcf(path)
+    rng = np.random.default_rng(8)
+    ctrl = rng.uniform(-1.0, 1.0, (2, 300, 2))
+    u = m.ctrl_torque(ctrl)
+    # the motor on `twist` (gear 2): g c_i u on each joint, with the servo's k u on `flex`
+    assert np.allclose(u[0, 0], 4.0 * ctrl[0, 0, 0] * np.array([1.0, 0.6]) + 2.0 * ctrl[0, 0, 1] * np.array([0.5, -1.0]))
+    x0 = np.zeros((2, m.nstate))
+    got = tumble.rollout(m, x0, 300, u, nthread=1)
+    for row in range(2):
+        w = tumble.World(m)
+        for k in range(300):
+            w.set_ctrl(0, ctrl[row, k])
+            w.step()
+        assert np.allclose(w.state(), got[row, -1], rtol=0, atol=1e-12)
