@@ -222,28 +222,15 @@ fn a_joint_pushed_against_its_limit_with_friction_stays_at_the_limit() {
     }
 }
 
-/// A leg on the floor: a 4 kg torso on a vertical slide, a hip and a knee about y (friction loss
-/// `f` N·m each), the foot (a 3 cm sphere) right below the hip and touching the floor, the knee
-/// 0.1 m in front: the torso's weight bends the knee by ≈ 4 N·m.
+/// The leg of `scenes/leg_friction.xml` (a 4 kg torso on a vertical slide, a hip and a knee about
+/// y, the foot right below the hip on the floor, the knee bent by ≈ 4 N·m) with friction loss `f`
+/// (N·m) on its hip and knee.
 fn leg(f: f64) -> String {
-    format!(
-        r#"<mujoco><option timestep="0.001"/><worldbody>
-  <geom name="floor" type="plane" size="5 5 0.1"/>
-  <body name="torso" pos="0 0 0.4302">
-    <joint name="lift" type="slide" axis="0 0 1"/>
-    <geom type="box" size="0.1 0.1 0.05" mass="4"/>
-    <body name="thigh">
-      <joint name="hip" type="hinge" axis="0 1 0" frictionloss="{f}"/>
-      <geom type="capsule" fromto="0 0 0 0.1 0 -0.2" size="0.02" mass="0.5"/>
-      <body name="shin" pos="0.1 0 -0.2">
-        <joint name="knee" type="hinge" axis="0 1 0" frictionloss="{f}"/>
-        <geom type="capsule" fromto="0 0 0 -0.1 0 -0.2" size="0.02" mass="0.5"/>
-        <geom name="foot" type="sphere" pos="-0.1 0 -0.2" size="0.03" mass="0.1"/>
-      </body>
-    </body>
-  </body>
-</worldbody></mujoco>"#
-    )
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/leg_friction.xml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let default = r#"<joint type="hinge" axis="0 1 0" frictionloss="10"/>"#;
+    assert!(text.contains(default));
+    text.replace(default, &format!(r#"<joint type="hinge" axis="0 1 0" frictionloss="{f}"/>"#))
 }
 
 /// The leg with friction loss `f` set on the floor: the torso's drop (m) in the first 0.5 s

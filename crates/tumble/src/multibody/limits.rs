@@ -579,8 +579,15 @@ impl JointLimitSolver {
         let tolerance = 1e-12 * scale;
         for r in 0..n {
             let row = self.rows[r];
-            // start: friction sticks, a limit pushes where it needs to
-            self.bound[r] = if row.coord == FRICTION || row.b > 0.0 { Bound::Free } else { Bound::Lower };
+            // start: friction sticks, a limit pushes where it needs to; a row whose box is a point
+            // (a friction row left free this step) stays at it
+            self.bound[r] = if row.lo == row.hi {
+                Bound::Lower
+            } else if row.coord == FRICTION || row.b > 0.0 {
+                Bound::Free
+            } else {
+                Bound::Lower
+            };
         }
         for _ in 0..MAX_PIVOTS {
             if !self.solve_boxed_basis(n) {
@@ -592,6 +599,7 @@ impl JointLimitSolver {
                 let (lambda_r, row) = (self.lambda[r], self.rows[r]);
                 let lambda_tolerance = tolerance / self.k[(r, r)];
                 let next = match self.bound[r] {
+                    _ if row.lo == row.hi => None,
                     Bound::Free if lambda_r < row.lo - lambda_tolerance => Some(Bound::Lower),
                     Bound::Free if lambda_r > row.hi + lambda_tolerance => Some(Bound::Upper),
                     Bound::Lower if w < -tolerance => Some(Bound::Free),
