@@ -158,7 +158,8 @@ def write(name, data):
 
 
 def tendons():
-    """The models with tendons, with their own random states (the other fixtures are untouched)."""
+    """The models with tendons, with their own random states (the other fixtures are untouched); the
+    Shadow hand's collision meshes beside its copy."""
     rng = np.random.default_rng(24)
     for name in TENDON_SYNTHETIC:
         write(name, fixture(name, os.path.join(OUT, "synthetic", name + ".xml"), rng, actuated=True))
@@ -168,6 +169,15 @@ def tendons():
         dst = os.path.join(OUT, "menagerie", file.replace(".xml", "_" + folder + ".xml"))
         shutil.copyfile(src, dst)
         shutil.copyfile(os.path.join(MENAGERIE, folder, "LICENSE"), os.path.join(OUT, "menagerie", name + ".LICENSE"))
+        # the meshes of the geoms that can collide, which a scene's robot needs (the visual ones stay out)
+        m = mujoco.MjModel.from_xml_path(src)
+        spec = mujoco.MjSpec.from_file(src)
+        assets = os.path.join(OUT, "menagerie", spec.meshdir)
+        os.makedirs(assets, exist_ok=True)
+        for g in range(m.ngeom):
+            if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH and (m.geom_contype[g] or m.geom_conaffinity[g]):
+                file = spec.mesh(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_MESH, m.geom_dataid[g])).file
+                shutil.copyfile(os.path.join(MENAGERIE, folder, spec.meshdir, file), os.path.join(assets, file))
         write(name, fixture(name, src, rng, actuated=True))
         print(name)
 

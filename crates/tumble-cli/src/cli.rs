@@ -44,8 +44,8 @@ pub struct RobotArgs {
     /// URDF file, or an MJCF (MuJoCo) file ending in `.xml`.
     pub urdf: PathBuf,
 
-    /// MJCF only: read joints with `frictionloss` as if it were zero (with a warning each) instead of
-    /// refusing them (dry joint friction is not built yet).
+    /// MJCF only: read joints with `frictionloss` as if it were zero (with a warning each), as MuJoCo's
+    /// `<flag frictionloss="disable">`.
     #[arg(long)]
     pub drop_frictionloss: bool,
 

@@ -121,15 +121,15 @@ fn closed_loops_are_refused_with_exit_2_naming_the_equality() {
 }
 
 #[test]
-fn urdf_flags_are_refused_on_mjcf_files_and_frictionloss_needs_the_flag() {
+fn urdf_flags_are_refused_on_mjcf_files_and_frictionloss_is_read_or_dropped() {
     let ant = mjcf().join("gymnasium/ant.xml");
     let (code, _, err) = run(&["model", ant.to_str().unwrap(), "--floating"]);
     assert_eq!(code, Some(2));
     assert!(err.contains("--floating applies to URDF files"), "{err}");
     let anymal = mjcf().join("menagerie/anymal_c.xml");
     let (code, _, err) = run(&["model", anymal.to_str().unwrap()]);
-    assert_eq!(code, Some(2));
-    assert!(err.contains("<joint frictionloss>: not supported"), "{err}");
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains("frictionloss"), "{err}");
     let (code, out, err) = run(&["model", anymal.to_str().unwrap(), "--drop-frictionloss", "--json"]);
     assert_eq!(code, Some(0), "{err}");
     let layout: Value = serde_json::from_str(&out).unwrap();

@@ -113,6 +113,17 @@ fn the_run_loop_allocates_nothing_per_step_with_robots() {
     }
 }
 
+/// A robot standing on its joints' dry friction (`scenes/leg_friction.xml`: the friction rows in the
+/// contact solve once the foot lands, and in the robot's own solve before) steps without allocating.
+#[test]
+fn the_run_loop_allocates_nothing_per_step_with_joint_friction() {
+    for integrator in Integrator::ALL {
+        let short = robot_allocations("leg_friction.xml", integrator, Format::JsonLines, 300);
+        let long = robot_allocations("leg_friction.xml", integrator, Format::JsonLines, 1500);
+        assert_eq!(short, long, "{integrator}: {short} allocations for 300 steps, {long} for 1500");
+    }
+}
+
 /// A reduced robot (`scenes/panda_locked.toml`: wrist and fingers locked) steps without allocating:
 /// the reduction is done once, when the scene is read.
 #[test]

@@ -231,13 +231,13 @@ fn inverted_pendulum() {
 fn inverted_double_pendulum() {
     gymnasium("inverted_double_pendulum");
 }
-/// ANYmal C's joints have `frictionloss` (a constraint tumble does not build yet): compared with it
-/// dropped here and disabled in MuJoCo (the fixtures disable friction loss for every model).
+/// ANYmal C's joints have `frictionloss`, a constraint (a bounded impulse of the step), which
+/// none of the compared quantities holds: it loads with it and agrees as read, and with it
+/// dropped (the fixtures disable friction loss in MuJoCo for every model).
 #[test]
 fn anymal_c() {
     let path = dir().join("menagerie/anymal_c.xml");
-    let err = load_mjcf(&path, MjcfOptions::default()).unwrap_err();
-    assert!(err.is_unsupported() && err.to_string().contains("<joint frictionloss>"), "{err}");
+    check("anymal_c", path.clone());
     check_with("anymal_c", path, MjcfOptions { drop_frictionloss: true });
 }
 #[test]
@@ -315,14 +315,15 @@ fn synthetic_tendons() {
 }
 
 /// The Shadow hand (Menagerie): four fixed tendons couple each finger's two distal joints, and a
-/// `position` actuator with a `forcerange` drives each tendon; joint `frictionloss` dropped here
-/// (disabled in MuJoCo's fixture, as for every model). Its actuator forces are in the fixture for
-/// when a scene can load it (its friction loss).
+/// `position` actuator with a `forcerange` drives each tendon. Its joints' `frictionloss` is read
+/// (a constraint: MuJoCo's fixture disables it, and it is no force of the dynamics compared here);
+/// the same with it dropped.
 #[test]
 fn shadow_hand() {
     let path = dir().join("menagerie/right_hand_shadow_hand.xml");
-    let options = MjcfOptions { drop_frictionloss: true };
-    check_with("shadow_right", path, options);
+    check("shadow_right", path.clone());
+    check_with("shadow_right", path.clone(), MjcfOptions { drop_frictionloss: true });
+    check_actuators("shadow_right", &path, MjcfOptions::default());
 }
 
 /// The tendons' lengths and the joint forces of the actuators and passive elements of the model

@@ -46,7 +46,6 @@ fn cassie_is_refused_at_its_first_equality() {
 #[test]
 fn refusals_name_the_element_attribute_and_position() {
     let cases: &[(&str, &str)] = &[
-        (&model("<joint frictionloss=\"0.1\"/>"), "test.xml:5:8: <joint frictionloss>: not supported (frictionloss"),
         (&model("<joint type=\"ball\" stiffness=\"1\"/>"), "<joint stiffness>: not supported (springs on ball"),
         (&model("<joint type=\"ball\" range=\"0 30\"/>"), "<joint range>: not supported (limits of ball"),
         ("<mujoco><option viscosity=\"0.1\"/></mujoco>", "test.xml:1:17: <option viscosity>: not supported"),
@@ -91,6 +90,10 @@ fn malformed_input_names_its_position() {
         (&model("<joint axis=\"0 0\"/>"), "test.xml:5:8: <joint axis>: '0 0': expected 3 finite numbers"),
         (&model("<joint axis=\"0 0 0\"/>"), "<joint axis>: a zero axis"),
         (&model("<joint dampin=\"1\"/>"), "<joint dampin>: unknown attribute 'dampin'"),
+        (
+            &model("<joint frictionloss=\"-0.1\"/>"),
+            "test.xml:5:8: <joint frictionloss>: '-0.1': expected a finite number ≥ 0",
+        ),
         (&model("<joint class=\"nope\"/>"), "<joint class>: no default class 'nope'"),
         (&model("<joint type=\"screw\"/>"), "<joint type>: 'screw': expected one of hinge, slide, ball, free"),
         (&model("<geom type=\"sphere\" fromto=\"0 0 0 1 0 0\" size=\"0.1\"/>"), "<geom fromto>: fromto on a sphere"),
@@ -154,14 +157,33 @@ fn visual_elements_are_skipped_silently() {
 }
 
 #[test]
-fn frictionloss_is_dropped_only_when_asked_with_a_warning() {
+fn frictionloss_is_read_and_dropped_only_when_asked_with_a_warning() {
     let text = model("<joint name=\"j\" frictionloss=\"0.3\"/>");
+    let m = parse(&text).unwrap();
+    assert_eq!(m.model.bodies[0].joint.dynamics.friction_loss, 0.3);
+    assert!(m.model.warnings.is_empty(), "{:?}", m.model.warnings);
     let m = parse_mjcf(&text, "test.xml", MjcfOptions { drop_frictionloss: true }).unwrap();
+    assert_eq!(m.model.bodies[0].joint.dynamics.friction_loss, 0.0);
     assert!(
         m.model.warnings.iter().any(|w| w.contains("joint 'j': frictionloss 0.3 dropped")),
         "{:?}",
         m.model.warnings
     );
+}
+
+/// `frictionloss` through a `<default>` class, per joint; a ball joint's on each of its three
+/// coordinates.
+#[test]
+fn frictionloss_is_read_through_default_classes() {
+    let text = "<mujoco><default><joint frictionloss=\"0.7\"/><default class=\"f\"><joint frictionloss=\"2\"/></default></default>\
+                <worldbody><body><geom size=\"0.1\"/><joint name=\"a\"/>\
+                <body><geom size=\"0.1\"/><joint name=\"b\" class=\"f\" type=\"slide\"/>\
+                <body><geom size=\"0.1\"/><joint name=\"c\" type=\"ball\" frictionloss=\"0.25\"/></body></body></body>\
+                </worldbody></mujoco>";
+    let m = parse(text).unwrap();
+    let f: Vec<(String, f64)> =
+        m.model.bodies.iter().map(|b| (b.joint.name.clone(), b.joint.dynamics.friction_loss)).collect();
+    assert_eq!(f, [("a".to_string(), 0.7), ("b".to_string(), 2.0), ("c".to_string(), 0.25)]);
 }
 
 /// The joint layout: a hinge's `q = qpos − ref`, its limits shifted alike; `springref` in the

@@ -167,7 +167,8 @@ fn bad_mjcf_robot_entries_name_the_field() {
 fn a_robots_kinetic_energy_counts_the_armature() {
     let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/ant.xml");
     let dir = tempfile::tempdir().unwrap();
-    let text = format!("version = 1\n[world]\ndt = 1e-3\n[[robot]]\nname = \"ant\"\nmjcf = {:?}\n", ant.display().to_string());
+    let text =
+        format!("version = 1\n[world]\ndt = 1e-3\n[[robot]]\nname = \"ant\"\nmjcf = {:?}\n", ant.display().to_string());
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, text).unwrap();
     let mut scene = scene::load(&path).unwrap();

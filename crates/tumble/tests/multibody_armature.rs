@@ -40,6 +40,7 @@ fn trees(seed: u64, n: usize, floating: bool) -> (MultibodyModel, MultibodyModel
             damping: rng.range(0.0, 2.0),
             stiffness: if spring { rng.range(0.0, 5.0) } else { 0.0 },
             spring_ref: if spring { rng.range(-0.5, 0.5) } else { 0.0 },
+            friction_loss: 0.0,
         };
         with.set_dynamics(b, dynamics).unwrap();
     }
@@ -134,7 +135,10 @@ fn springs_conserve_and_damping_dissipates_energy() {
             )
             .unwrap();
         builder
-            .set_dynamics(b, JointDynamics { armature: 0.1, damping: 0.0, stiffness: 3.0, spring_ref: 0.3 })
+            .set_dynamics(
+                b,
+                JointDynamics { armature: 0.1, damping: 0.0, stiffness: 3.0, spring_ref: 0.3, friction_loss: 0.0 },
+            )
             .unwrap();
     }
     let springs = builder.build().unwrap();

@@ -28,7 +28,7 @@
 //! held over the step as the free bodies' forces are).
 //!
 //! **Contact space.** The solve never forms `W`: a robot's rows of the step (three per contact
-//! point, one per joint-limit row) make its contact space, with the Delassus matrix
+//! point, one per joint-limit row, one per friction-loss row) make its contact space, with the Delassus matrix
 //! `G = J M⁻¹ Jᵀ = Yᵀ D⁻¹ Y`, `Y = L⁻ᵀ Jᵀ` (non-zero only on the coordinates on the path of each
 //! row's link to the root: branch-induced sparsity, Featherstone 2008, §6.5), and per row the
 //! velocity `u = J v`, the displacement `s = J d`, `J a₀`, and the impulses `P` applied so far. An
@@ -47,6 +47,21 @@
 //!    (same softness, speculative rule, friction disc, relaxation). In each substep `h` a robot's
 //!    solver velocity gains `h a₀`, the rows change it by `W Δλ`, and its displacement in velocity
 //!    coordinates grows by `h v`, which moves the point by `J_c d` (the row's separation).
+//!
+//! **Joint rows.** The joint limits of an engaged robot are rows `J = s e_iᵀ` of the same substeps
+//! (one-sided, with the contacts' position bias and softness), and so is its joints' dry friction
+//! (MuJoCo documentation, *Computation*: friction loss): per velocity coordinate `k` of a joint with
+//! friction loss `F`, a row `J = e_kᵀ` with
+//!
+//! ```text
+//! λ ← clamp(λ − u / G_kk, −F h, F h)      u = v_k, target u⁺ = 0, h the substep
+//! ```
+//!
+//! no position bias and no softness, in the same passes as the limit rows (projected Gauss–Seidel
+//! with the box clamp, Erleben 2007). `λ` is the impulse of one substep (applied again by the warm
+//! start of the next, as the contact rows'), so the step's friction impulse is `|Σ λ| ≤ F dt`, a
+//! force within `±F`. It is warm started from the previous step's last substep: without a position
+//! bias, the residual velocity that one sweep per pass leaves would otherwise become drift.
 //!
 //! A robot the resting rows reached is integrated by its own method with the rows' generalized
 //! force over the step added to its joint forces, `τ_c = Jᵀ P / dt` (`P` the rows' impulses of the
@@ -157,6 +172,22 @@ struct LimitRow {
     lambda: f64,
 }
 
+/// A friction-loss row of a robot the contact rows engage: `J = e_iᵀ` for a velocity coordinate `i`
+/// of a joint with dry friction `F`, the impulse of each substep of `h` bounded, `|λ| ≤ F h`, the
+/// target velocity `u⁺ = 0`, no position bias and no softness; a row of the robot's contact space,
+/// solved in the same passes as the limit rows.
+#[derive(Debug, Clone, Copy)]
+struct FrictionRow {
+    robot: usize,
+    /// `F` (N·m or N).
+    friction_loss: f64,
+    /// Its row in the robot's contact space.
+    off: usize,
+    normal_mass: f64,
+    /// The impulse of the current substep (N·m·s or N·s).
+    lambda: f64,
+}
+
 /// A row of the previous step and its impulses (warm starting).
 #[derive(Debug, Clone, Copy)]
 struct Previous {
@@ -215,6 +246,10 @@ struct RobotSolve {
     /// The kinetic energy this step's collisions took from the robot (J): `T(v₀) − T(v₀ + Δv)`,
     /// `T(v) = ½ vᵀ M(q₀) v`.
     impact_loss: f64,
+    /// The last substep's impulse of each friction-loss row of the previous step, in the order of
+    /// [`crate::multibody::JointLimitSolver::friction_losses`] (warm starting; empty when the robot
+    /// was not engaged).
+    friction_warm: Vec<f64>,
 }
 
 /// The link contacts of a step and the buffers to resolve them (no allocation once grown).
@@ -226,11 +261,13 @@ pub struct LinkStage {
     impulses: Vec<DVec3>,
     rows: Vec<Row>,
     limit_rows: Vec<LimitRow>,
+    friction_rows: Vec<FrictionRow>,
     lambda_sums: Vec<[f64; 3]>,
     robots: Vec<RobotSolve>,
     previous: Vec<Previous>,
-    /// The step (s).
+    /// The step (s) and the contact stage's substep (s).
     dt: f64,
+    substep: f64,
     /// Collisions resolved and kinetic energy they dissipated (J), since the start.
     pub impacts: u64,
     pub energy_lost: f64,
@@ -319,6 +356,7 @@ impl LinkStage {
         self.impulses.resize(self.contacts.len(), DVec3::ZERO);
         self.rows.clear();
         self.dt = dt;
+        self.substep = dt / f64::from(settings.substeps.max(1));
         if self.robots.len() != robots.count() {
             self.robots = (0..robots.count()).map(|r| RobotSolve::new(robots.view(r).model)).collect();
         }
@@ -363,6 +401,11 @@ impl LinkStage {
             let k_ii = solve.g[row.off * solve.rows() + row.off];
             row.normal_mass = if k_ii > 0.0 { 1.0 / k_ii } else { 0.0 };
         }
+        for row in &mut self.friction_rows {
+            let solve = &self.robots[row.robot];
+            let k_ii = solve.g[row.off * solve.rows() + row.off];
+            row.normal_mass = if k_ii > 0.0 { 1.0 / k_ii } else { 0.0 };
+        }
     }
 
     /// The robots' part of a row's `K`: `Σ_{s,s' same robot} σ_s σ_s' G_{ss'}` (3 × 3 blocks of
@@ -390,15 +433,28 @@ impl LinkStage {
     }
 
     /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
-    /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row.
+    /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row; and their
+    /// friction-loss rows: every velocity coordinate of a joint with friction loss gets one.
     fn limit_rows(&mut self, robots: &dyn RobotViews, soft: Softness) {
         self.limit_rows.clear();
+        self.friction_rows.clear();
         for r in 0..robots.count() {
             if !self.robots[r].engaged {
                 continue;
             }
             let view = robots.view(r);
             let Some(limits) = view.limits else { continue };
+            for (k, (vi, friction_loss)) in limits.friction_losses().enumerate() {
+                // J = e_iᵀ; its chain: coordinate i and those above it
+                let solve = &mut self.robots[r];
+                let off = solve.add_rows(1, dof_chain(view.model, vi));
+                solve.jac[off * solve.nv + vi] = 1.0;
+                // warm started from the previous step's last substep (a row without position bias
+                // keeps what a single sweep per pass leaves of its velocity as drift otherwise)
+                let bound = friction_loss * self.substep;
+                let lambda = solve.friction_warm.get(k).map_or(0.0, |l| l.max(-bound).min(bound));
+                self.friction_rows.push(FrictionRow { robot: r, friction_loss, off, normal_mass: 0.0, lambda });
+            }
             for (k, (qi, vi, lower, upper)) in limits.bounds().enumerate() {
                 let (q, v) = (view.q[qi], self.robots[r].v0[vi]);
                 for (sign, gap) in [(1.0, q - lower), (-1.0, upper - q)] {
@@ -726,11 +782,33 @@ impl LinkStage {
                 solve.touched = true;
             }
         }
+        // the friction-loss rows: λ ← clamp(λ − u / G_ii, −F h, F h), u = v_i, target u⁺ = 0
+        // (MuJoCo, *Computation*: friction loss; the box clamp of projected Gauss–Seidel, Erleben
+        // 2007); `λ` is the impulse of one substep of `h`, a force `|τ| ≤ F` over it
+        let h = 1.0 / sweep.inv_h;
+        for row in self.friction_rows.iter_mut() {
+            let solve = &mut self.robots[row.robot];
+            let bound = row.friction_loss * h;
+            let new = (row.lambda - row.normal_mass * solve.u[row.off]).max(-bound).min(bound);
+            let d = new - row.lambda;
+            row.lambda = new;
+            if d != 0.0 {
+                solve.impulse(row.off, d);
+            }
+            if new != 0.0 {
+                solve.touched = true;
+            }
+        }
     }
 
-    /// Applies the limit rows' accumulated impulses (warm start within the step).
+    /// Applies the limit and friction rows' accumulated impulses (warm start within the step).
     pub(super) fn warm_start_limits(&mut self) {
         for row in &self.limit_rows {
+            if row.lambda != 0.0 {
+                self.robots[row.robot].impulse(row.off, row.lambda);
+            }
+        }
+        for row in &self.friction_rows {
             if row.lambda != 0.0 {
                 self.robots[row.robot].impulse(row.off, row.lambda);
             }
@@ -771,6 +849,12 @@ impl LinkStage {
         // matter to the lookup, which looks at every point of the pair)
         if !self.previous.is_sorted_by_key(|p| (p.a, p.b)) {
             self.previous.sort_unstable_by_key(|p| (p.a, p.b));
+        }
+        for r in &mut self.robots {
+            r.friction_warm.clear();
+        }
+        for row in &self.friction_rows {
+            self.robots[row.robot].friction_warm.push(row.lambda);
         }
         for (k, r) in self.robots.iter_mut().enumerate() {
             if !r.engaged {
@@ -819,9 +903,11 @@ impl LinkStage {
         self.impulses.clear();
         self.rows.clear();
         self.limit_rows.clear();
+        self.friction_rows.clear();
         self.previous.clear();
         for r in &mut self.robots {
             r.engaged = false;
+            r.friction_warm.clear();
         }
     }
 }
@@ -862,6 +948,7 @@ impl RobotSolve {
             struck: false,
             touched: false,
             impact_loss: 0.0,
+            friction_warm: Vec::new(),
         }
     }
 

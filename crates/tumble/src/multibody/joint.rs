@@ -191,10 +191,15 @@ fn quat_rate(q: DQuat, omega: DVec3) -> [f64; 4] {
 ///   `M`, ABA to `D = Sᵀ I^A S`, RNEA adds `a q̈`, the kinetic energy `½ a v²`;
 /// - `damping` `d ≥ 0` gives the passive force `−d v` on each of its velocity coordinates;
 /// - `stiffness` `k ≥ 0` gives `−k (q − spring_ref)` (one-coordinate joints only), with
-///   `spring_ref` in this model's coordinates (rad or m) and the potential `½ k (q − spring_ref)²`.
+///   `spring_ref` in this model's coordinates (rad or m) and the potential `½ k (q − spring_ref)²`;
+/// - `friction_loss` `F ≥ 0` is dry (Coulomb) friction on each of its velocity coordinates: a
+///   generalized force in `[−F, F]` that opposes the motion and holds the joint still while the
+///   other forces on it stay within `F` (MuJoCo's `frictionloss`).
 ///
 /// The passive forces enter the joint forces `τ` ([`passive_forces`](super::passive::passive_forces)),
-/// as MuJoCo's `qfrc_passive`.
+/// as MuJoCo's `qfrc_passive`. Friction loss is not a passive force but a constraint: a bounded
+/// impulse `|λ| ≤ F h` per step of `h` ([`super::limits`], and [`crate::contact::links`] for a tree
+/// held by resting contact), as MuJoCo's friction-loss rows.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointDynamics {
     /// Added to `M_kk` for each velocity coordinate `k` of the joint (kg·m² or kg).
@@ -205,13 +210,15 @@ pub struct JointDynamics {
     pub stiffness: f64,
     /// The spring's rest position (rad or m), in this model's coordinates.
     pub spring_ref: f64,
+    /// Dry friction `F ≥ 0` (N·m or N) on each velocity coordinate: a force in `[−F, F]`.
+    pub friction_loss: f64,
 }
 
 impl JointDynamics {
     /// True when every coefficient is zero (a URDF joint).
     #[inline]
     pub fn is_zero(&self) -> bool {
-        self.armature == 0.0 && self.damping == 0.0 && self.stiffness == 0.0
+        self.armature == 0.0 && self.damping == 0.0 && self.stiffness == 0.0 && self.friction_loss == 0.0
     }
 }
 

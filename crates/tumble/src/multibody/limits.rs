@@ -1,4 +1,5 @@
-//! Joint position limits: one-sided, speculative, inelastic constraints on joint coordinates.
+//! Joint position limits — one-sided, speculative, inelastic constraints on joint coordinates — and
+//! joint dry friction (friction loss), a bounded force over the step.
 //!
 //! References: R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), §6.5 (the sparse `LᵀDL`
 //! factor used for `M⁻¹`) and ch. 11 (contact as a complementarity problem); B. Mirtich, PhD thesis
@@ -45,8 +46,35 @@
 //! gap `g − min(0, g₀)` in phase 2 and the target `0` in phase 1, so the limit stops further motion
 //! outward and lets the joint come back, without pushing it in (no energy is injected).
 //!
+//! **Friction loss** (MuJoCo documentation, *Computation*: the "friction loss" rows of the
+//! constraint solver; MJCF joint `frictionloss`): a joint with dry friction `F > 0` has one row per
+//! velocity coordinate `k`, in phase 2 with the limit rows (explicit Euler: in its phase 2′), always
+//! — whether limits are enforced or not:
+//!
+//! ```text
+//! J = e_kᵀ,   target u⁺ = 0: b = −u₁,   |λ| ≤ F h   (a force |τ| ≤ F constant over the step)
+//! Δv = M⁻¹ Jᵀ λ,   Δq = c h Δv   (as the limit rows' force)
+//! ```
+//!
+//! With the limit rows (`λ ∈ [0, ∞)`) this is a boxed problem, `w = K λ − b` with `w = 0` for a row
+//! strictly between its bounds, `w ≥ 0` at its lower and `w ≤ 0` at its upper bound; for symmetric
+//! positive definite `K` its solution minimises `½ λᵀ K λ − bᵀ λ` over the box (for friction rows
+//! alone: the kinetic energy after the impulse), solved exactly by principal pivoting on the box,
+//! with projected Gauss–Seidel clamped to the box as the fallback (K. Erleben, ACM TOG 26(2), 2007;
+//! E. Catto, "Iterative dynamics with temporal coherence", GDC 2005). Limits alone keep Murty's
+//! method (bit for bit as without friction). A joint whose other forces stay within `F` thus ends the
+//! step where it started, at rest (exactly for semi-implicit Euler, `O(h⁴)` a step for RK4, whose
+//! acceleration is not constant over the step); a sliding one loses `F h` of momentum per step. The
+//! impulse opposes `u₁` and never reverses it. With `c = 1` the joint moves by `h u₁⁺`, which the
+//! impulse opposes: friction never adds energy. With `c = ½` (RK4) it moves by `h ū`,
+//! `ū = (1 − c) u₀ + c u₁`: a row whose `ū` and `u₁` have opposite signs (the joint turned back within
+//! the step) is left free for the step, and an impulse may not reverse `ū` (`|λ| ≤ |ū| / (c K_kk)`),
+//! so that a row's force never works along the step's motion (coupled rows can still leave a rise of
+//! `O(F h² a)` at a turning point: 4e-8 J measured on a double pendulum).
+//!
 //! `M⁻¹` columns come from CRBA and the sparse `LᵀDL` factor (`O(n d)` each), computed only when a
-//! row is active. Every buffer is allocated when the solver is made: a step allocates nothing.
+//! row is active (with friction rows: every step in which a frictional joint moves). Every buffer is
+//! allocated when the solver is made: a step allocates nothing.
 
 use super::crba::crba;
 use super::joint::JointKind;
@@ -75,8 +103,16 @@ pub enum Phase {
     /// Phase 2, at the end of the step: zero end gap through `Δq = c h Δv` (`c > 0`).
     Force { c: f64 },
     /// Phase 2′, at the end of the step: the velocity condition of phase 1 at the end state (all of
-    /// phase 2 for explicit Euler, whose `q₁` a force cannot move).
-    EndVelocity,
+    /// phase 2 for explicit Euler, whose `q₁` a force cannot move: `friction` then brings the
+    /// friction rows, with the position weight `c = 0`).
+    EndVelocity { friction: bool },
+}
+
+impl Phase {
+    /// Whether the friction rows join this phase's solve: the force over the step (once per step).
+    fn with_friction(self) -> bool {
+        matches!(self, Phase::Force { .. } | Phase::EndVelocity { friction: true })
+    }
 }
 
 /// A limited coordinate: `q[q_index] ∈ [lower, upper]`, its velocity `v[v_index]`.
@@ -88,21 +124,55 @@ struct Limited {
     upper: f64,
 }
 
+/// A velocity coordinate with dry friction: `|τ_friction| ≤ friction_loss` on `v[v_index]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Frictional {
+    v_index: usize,
+    /// `F` (N·m or N).
+    friction_loss: f64,
+    /// `v[v_index]` at the start of the step, after the impact phase (rad/s or m/s).
+    start_velocity: f64,
+}
+
+/// Marks a row as a friction row in [`Row::coord`].
+const FRICTION: usize = usize::MAX;
+
 /// One active row of a solve.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Row {
-    /// Index into `limited`.
+    /// Index into `limited`; [`FRICTION`] for a friction row.
     coord: usize,
-    /// `+1` for a lower limit, `−1` for an upper one (`J = s e_i`).
+    /// The velocity coordinate `i` of `J = s e_iᵀ`.
+    v_index: usize,
+    /// `+1` for a lower limit or a friction row, `−1` for an upper limit (`J = s e_i`).
     sign: f64,
     /// The change of row velocity it asks for (m/s or rad/s).
     b: f64,
+    /// The impulse's bounds `λ ∈ [lo, hi]` (N·s or N·m·s): `[0, ∞)` for a limit, `[−F h, F h]` for
+    /// friction.
+    lo: f64,
+    hi: f64,
+    /// A friction row in a force phase with `c < 1`: `|ū| / c` (m/s or rad/s), the largest change
+    /// of row velocity that does not reverse the row's mean velocity over the step; `∞` otherwise.
+    mean_cap: f64,
 }
 
-/// The joint-limit rows of a tree and the buffers to solve them (one per simulator).
+/// Where a row of the boxed solve sits: between its bounds (its row equation holds) or at one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Bound {
+    Free,
+    Lower,
+    Upper,
+}
+
+/// The joint-limit and friction-loss rows of a tree and the buffers to solve them (one per
+/// simulator).
 #[derive(Debug, Clone)]
 pub struct JointLimitSolver {
     limited: Vec<Limited>,
+    frictional: Vec<Frictional>,
+    /// The boxed solve's state per row (friction rows present).
+    bound: Vec<Bound>,
     /// Gap of each limited coordinate's lower and upper row at the start of the step (`min(0, g₀)`
     /// is the reference of a joint that started outside).
     start_gap: Vec<[f64; 2]>,
@@ -130,9 +200,10 @@ pub struct JointLimitSolver {
 }
 
 impl JointLimitSolver {
-    /// The solver for every revolute and prismatic joint of `model` that has position limits, with
-    /// its buffers; `None` when no joint has limits. Also sizes `ws`'s mass matrix and factor.
-    pub fn new(model: &MultibodyModel, ws: &mut Workspace) -> Option<Self> {
+    /// The solver for every revolute and prismatic joint of `model` that has position limits (when
+    /// `limits` is on) and every velocity coordinate of a joint with friction loss (always), with
+    /// its buffers; `None` when there is neither. Also sizes `ws`'s mass matrix and factor.
+    pub fn new(model: &MultibodyModel, ws: &mut Workspace, limits: bool) -> Option<Self> {
         let limited: Vec<Limited> = model
             .bodies
             .iter()
@@ -146,31 +217,59 @@ impl JointLimitSolver {
                     upper,
                 })
             })
+            .filter(|_| limits)
             .collect();
-        if limited.is_empty() || ensure_square(&mut ws.mass_matrix, model.nv()).is_err() {
+        let frictional: Vec<Frictional> = model
+            .bodies
+            .iter()
+            .filter(|b| b.joint.dynamics.friction_loss > 0.0)
+            .flat_map(|b| {
+                let j = &b.joint;
+                (j.v_index..j.v_index + j.kind.nv()).map(|v_index| Frictional {
+                    v_index,
+                    friction_loss: j.dynamics.friction_loss,
+                    start_velocity: 0.0,
+                })
+            })
+            .collect();
+        if (limited.is_empty() && frictional.is_empty()) || ensure_square(&mut ws.mass_matrix, model.nv()).is_err() {
             return None;
         }
         if ws.ltdl.shape() != ws.mass_matrix.shape() {
             ws.ltdl = ws.mass_matrix.clone();
         }
         let n = limited.len();
+        // rows at most: two per limited coordinate, one per frictional one
+        let m = 2 * n + frictional.len();
         Some(Self {
             start_gap: vec![[0.0; 2]; n],
-            rows: Vec::with_capacity(2 * n),
-            minv_cols: DMatrix::zeros(model.nv(), 2 * n),
-            k: DMatrix::zeros(2 * n, 2 * n),
-            lambda: vec![0.0; 2 * n],
-            basis: vec![false; 2 * n],
-            basis_rows: Vec::with_capacity(2 * n),
-            reduced: DMatrix::zeros(2 * n, 2 * n),
-            rhs: vec![0.0; 2 * n],
+            rows: Vec::with_capacity(m),
+            minv_cols: DMatrix::zeros(model.nv(), m),
+            k: DMatrix::zeros(m, m),
+            lambda: vec![0.0; m],
+            basis: vec![false; m],
+            bound: vec![Bound::Free; m],
+            basis_rows: Vec::with_capacity(m),
+            reduced: DMatrix::zeros(m, m),
+            rhs: vec![0.0; m],
             forced: vec![[false; 2]; n],
             dv: vec![0.0; model.nv()],
             q_tmp: vec![0.0; model.nq()],
             active_steps: vec![0; n],
             active_now: vec![false; n],
             limited,
+            frictional,
         })
+    }
+
+    /// Whether it enforces position limits (limits on and some joint limited).
+    pub fn has_limits(&self) -> bool {
+        !self.limited.is_empty()
+    }
+
+    /// Each velocity coordinate with dry friction: `(v_index, F)` (F in N·m or N).
+    pub fn friction_losses(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.frictional.iter().map(|f| (f.v_index, f.friction_loss))
     }
 
     /// The velocity coordinates that have limits, in the order of [`active_steps`](Self::active_steps).
@@ -204,6 +303,14 @@ impl JointLimitSolver {
         self.active_now.fill(false);
     }
 
+    /// Records the velocity at the start of the step's integration (after the impact phase), from
+    /// which the force phase tells a friction row whose joint turned back within the step.
+    pub fn begin_integration(&mut self, v: &[f64]) {
+        for f in &mut self.frictional {
+            f.start_velocity = v[f.v_index];
+        }
+    }
+
     /// Counts the coordinates whose limit pushed during the step.
     pub fn end_step(&mut self) {
         for (count, &on) in self.active_steps.iter_mut().zip(&self.active_now) {
@@ -211,9 +318,10 @@ impl JointLimitSolver {
         }
     }
 
-    /// Applies the limits to `(q, v)` for one phase of a step of `h` seconds: finds the active rows,
-    /// solves `K λ ≥ b ⊥ λ ≥ 0`, then `v += M⁻¹ Jᵀ λ` (and, in the force phase, `q ← q ⊕ c h Δv`).
-    /// Does nothing (and computes no `M`) when no row needs an impulse.
+    /// Applies the limits (and, in the force phase, the friction) to `(q, v)` for one phase of a
+    /// step of `h` seconds: finds the active rows, solves `K λ ≥ b ⊥ λ ≥ 0` (boxed for friction
+    /// rows), then `v += M⁻¹ Jᵀ λ` (and, in the force phase, `q ← q ⊕ c h Δv`). Does nothing (and
+    /// computes no `M`) when no row needs an impulse.
     pub fn apply(
         &mut self,
         model: &MultibodyModel,
@@ -242,7 +350,7 @@ impl JointLimitSolver {
             self.find_rows(phase, h, q, v);
         }
         for (r, row) in self.rows.iter().enumerate() {
-            if self.lambda[r] > 0.0 {
+            if self.lambda[r] > 0.0 && row.coord != FRICTION {
                 self.active_now[row.coord] = true;
             }
         }
@@ -264,15 +372,16 @@ impl JointLimitSolver {
         let g0 = self.start_gap[coord][side];
         let b = match phase {
             // u⁺ ≥ min(0, −g/h); a joint outside its limit only loses its outward speed
-            Phase::Impact | Phase::EndVelocity => (-gap / h).min(0.0) - u,
+            Phase::Impact | Phase::EndVelocity { .. } => (-gap / h).min(0.0) - u,
             // g₁ + c h Δu ≥ 0, the gap measured from the start when it started outside
             Phase::Force { c } => -(gap - g0.min(0.0)) / (c * h),
         };
         (b, gap)
     }
 
-    /// Fills `rows` with the rows that need an impulse (`b > 0`), are near their limit, or were
-    /// forced in; returns whether one needs an impulse.
+    /// Fills `rows` with the limit rows that need an impulse (`b > 0`), are near their limit, or
+    /// were forced in, then (in a phase with friction) every friction row; returns whether one needs
+    /// an impulse.
     fn find_rows(&mut self, phase: Phase, h: f64, q: &[f64], v: &[f64]) -> bool {
         self.rows.clear();
         let mut needed = false;
@@ -286,7 +395,41 @@ impl JointLimitSolver {
                     continue;
                 }
                 let sign = if side == 0 { 1.0 } else { -1.0 };
-                self.rows.push(Row { coord, sign, b });
+                self.rows.push(Row {
+                    coord,
+                    v_index: l.v_index,
+                    sign,
+                    b,
+                    lo: 0.0,
+                    hi: f64::INFINITY,
+                    mean_cap: f64::INFINITY,
+                });
+            }
+        }
+        if phase.with_friction() {
+            for f in &self.frictional {
+                // J = e_iᵀ, target u⁺ = 0: b = −u; |λ| ≤ F h (MuJoCo's friction-loss row)
+                let b = -v[f.v_index];
+                // the force moves the joint by h ū⁺ over the step, ū⁺ = (1 − c) u₀ + c u₁⁺ (exact
+                // for constant acceleration), and works λ ū⁺: with c = 1 (semi-implicit Euler)
+                // ū⁺ = u₁⁺, never opposed by λ. With c < 1 (RK4) a joint that turned back within the
+                // step (ū and u₁ of opposite signs) is left free this step, and the impulse may not
+                // reverse ū (bounded by |ū| / (c K_rr) in the solve), so that friction never adds
+                // energy at a turning point
+                let c = if let Phase::Force { c } = phase { c } else { 1.0 };
+                let mean = (1.0 - c) * f.start_velocity + c * v[f.v_index];
+                let bound = if mean * v[f.v_index] < 0.0 { 0.0 } else { f.friction_loss * h };
+                let mean_cap = if c < 1.0 { mean.abs() / c } else { f64::INFINITY };
+                needed |= b != 0.0;
+                self.rows.push(Row {
+                    coord: FRICTION,
+                    v_index: f.v_index,
+                    sign: 1.0,
+                    b,
+                    lo: -bound,
+                    hi: bound,
+                    mean_cap,
+                });
             }
         }
         needed
@@ -320,7 +463,7 @@ impl JointLimitSolver {
         let n = self.rows.len();
         for (r, row) in self.rows.iter().enumerate() {
             // column r: M⁻¹ e_i
-            let i = self.limited[row.coord].v_index;
+            let i = row.v_index;
             let mut col = self.minv_cols.column_mut(r);
             col.fill(0.0);
             col[i] = 1.0;
@@ -332,10 +475,21 @@ impl JointLimitSolver {
             for s in 0..n {
                 // K_rs = s_r s_s (M⁻¹)_{i_r i_s}
                 let (a, b) = (self.rows[r], self.rows[s]);
-                self.k[(r, s)] = a.sign * b.sign * self.minv_cols[(self.limited[a.coord].v_index, s)];
+                self.k[(r, s)] = a.sign * b.sign * self.minv_cols[(a.v_index, s)];
             }
         }
-        if !self.solve_murty(n) {
+        // a friction row's impulse may not reverse its mean velocity: |λ| ≤ |ū| / (c K_rr)
+        for r in 0..n {
+            let cap = self.rows[r].mean_cap / self.k[(r, r)];
+            if cap < self.rows[r].hi {
+                self.rows[r].hi = cap;
+                self.rows[r].lo = -cap;
+            }
+        }
+        // limits alone: Murty's exact pivoting; with friction rows the boxed pivoting; each falls
+        // back to projected Gauss–Seidel
+        let boxed = self.rows[..n].iter().any(|r| r.coord == FRICTION);
+        if !(if boxed { self.solve_boxed(n) } else { self.solve_murty(n) }) {
             self.solve_pgs(n);
         }
         // Δv = Σ_r M⁻¹ e_{i_r} s_r λ_r
@@ -397,30 +551,8 @@ impl JointLimitSolver {
             }
             self.rhs[a] = self.rows[r].b;
         }
-        let (k, x) = (&mut self.reduced, &mut self.rhs);
-        let k_max = (0..m).map(|a| k[(a, a)].abs()).fold(0.0, f64::max);
-        for col in 0..m {
-            let p = (col..m).max_by(|&a, &b| k[(a, col)].abs().total_cmp(&k[(b, col)].abs())).unwrap_or(col);
-            // a pivot at round-off of K's scale: K_BB is singular (a joint with lower = upper)
-            let pivot = k[(p, col)].abs();
-            if pivot.is_nan() || pivot <= 1e-13 * k_max {
-                return false;
-            }
-            if p != col {
-                k.swap_rows(p, col);
-                x.swap(p, col);
-            }
-            for r in col + 1..m {
-                let f = k[(r, col)] / k[(col, col)];
-                for c in col..m {
-                    k[(r, c)] -= f * k[(col, c)];
-                }
-                x[r] -= f * x[col];
-            }
-        }
-        for col in (0..m).rev() {
-            let tail: f64 = (col + 1..m).map(|c| k[(col, c)] * x[c]).sum();
-            x[col] = (x[col] - tail) / k[(col, col)];
+        if !eliminate(&mut self.reduced, &mut self.rhs, m) {
+            return false;
         }
         self.lambda[..n].fill(0.0);
         for (a, &r) in self.basis_rows.iter().enumerate() {
@@ -429,23 +561,125 @@ impl JointLimitSolver {
         true
     }
 
-    /// Projected Gauss–Seidel on `w = K λ − b ≥ 0, λ ≥ 0, λᵀ w = 0` for the first `n` rows.
+    /// The boxed problem exactly (rows with friction): `w = K λ − b` with `λ ∈ [lo, hi]`, `w = 0`
+    /// for a row between its bounds (`F`), `w ≥ 0` at `lo` (`L`), `w ≤ 0` at `hi` (`U`), by
+    /// principal pivoting with the least-index rule as [`Self::solve_murty`]: solve
+    /// `K_FF λ_F = b_F − K_FB λ_B` with the others at their bounds, then move the first row that
+    /// breaks its condition (`λ_r` past a bound in `F`; `w_r < 0` at `lo`, `w_r > 0` at `hi`) to the
+    /// bound it crossed or into `F`. For symmetric positive definite `K` the solution minimises
+    /// `½ λᵀ K λ − bᵀ λ` over the box and is unique.
+    ///
+    /// Reference: K. G. Murty (1988), §4.1, extended to bounds as the box-constrained LCP of
+    /// friction (MuJoCo documentation, *Computation*: "friction loss" rows have `|f| ≤ frictionloss`;
+    /// Erleben 2007 for the same problem by PGS). Returns false when a reduced system is singular
+    /// (two rows on one coordinate, a limit and its friction) or the pivots run out: the caller then
+    /// takes projected Gauss–Seidel.
+    fn solve_boxed(&mut self, n: usize) -> bool {
+        let scale = self.rows[..n].iter().map(|r| r.b.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        let tolerance = 1e-12 * scale;
+        for r in 0..n {
+            let row = self.rows[r];
+            // start: friction sticks, a limit pushes where it needs to; a row whose box is a point
+            // (a friction row left free this step) stays at it
+            self.bound[r] = if row.lo == row.hi {
+                Bound::Lower
+            } else if row.coord == FRICTION || row.b > 0.0 {
+                Bound::Free
+            } else {
+                Bound::Lower
+            };
+        }
+        for _ in 0..MAX_PIVOTS {
+            if !self.solve_boxed_basis(n) {
+                return false;
+            }
+            let mut pivot = None;
+            for r in 0..n {
+                let w: f64 = (0..n).map(|s| self.k[(r, s)] * self.lambda[s]).sum::<f64>() - self.rows[r].b;
+                let (lambda_r, row) = (self.lambda[r], self.rows[r]);
+                let lambda_tolerance = tolerance / self.k[(r, r)];
+                let next = match self.bound[r] {
+                    _ if row.lo == row.hi => None,
+                    Bound::Free if lambda_r < row.lo - lambda_tolerance => Some(Bound::Lower),
+                    Bound::Free if lambda_r > row.hi + lambda_tolerance => Some(Bound::Upper),
+                    Bound::Lower if w < -tolerance => Some(Bound::Free),
+                    Bound::Upper if w > tolerance => Some(Bound::Free),
+                    _ => None,
+                };
+                if let Some(b) = next {
+                    pivot = Some((r, b));
+                    break;
+                }
+            }
+            match pivot {
+                None => {
+                    for (l, row) in self.lambda[..n].iter_mut().zip(&self.rows) {
+                        *l = l.max(row.lo).min(row.hi);
+                    }
+                    return true;
+                }
+                Some((r, b)) => self.bound[r] = b,
+            }
+        }
+        false
+    }
+
+    /// `λ_F = K_FF⁻¹ (b_F − K_FB λ_B)` with the rows off `F` at their bounds.
+    fn solve_boxed_basis(&mut self, n: usize) -> bool {
+        for r in 0..n {
+            self.lambda[r] = match self.bound[r] {
+                Bound::Free => 0.0,
+                Bound::Lower => self.rows[r].lo,
+                Bound::Upper => self.rows[r].hi,
+            };
+            // a limit row has no upper bound
+            if !self.lambda[r].is_finite() {
+                return false;
+            }
+        }
+        self.basis_rows.clear();
+        self.basis_rows.extend((0..n).filter(|&r| self.bound[r] == Bound::Free));
+        let m = self.basis_rows.len();
+        for (a, &r) in self.basis_rows.iter().enumerate() {
+            for (b, &s) in self.basis_rows.iter().enumerate() {
+                self.reduced[(a, b)] = self.k[(r, s)];
+            }
+            // b_r − Σ_{s ∉ F} K_rs λ_s
+            let fixed: f64 =
+                (0..n).filter(|&s| self.bound[s] != Bound::Free).map(|s| self.k[(r, s)] * self.lambda[s]).sum();
+            self.rhs[a] = self.rows[r].b - fixed;
+        }
+        if !eliminate(&mut self.reduced, &mut self.rhs, m) {
+            return false;
+        }
+        for (a, &r) in self.basis_rows.iter().enumerate() {
+            self.lambda[r] = self.rhs[a];
+        }
+        true
+    }
+
+    /// Projected Gauss–Seidel on the boxed problem `w = K λ − b`, `λ ∈ [lo, hi]` with `w ≥ 0` at
+    /// `lo`, `w ≤ 0` at `hi`, `w = 0` between (for a limit row `[0, ∞)`: `w ≥ 0, λ ≥ 0, λᵀ w = 0`),
+    /// for the first `n` rows. Each update minimises `½ λᵀ K λ − bᵀ λ` along its row within the
+    /// box, so from `λ = 0` the objective — for friction rows the kinetic energy after the impulse,
+    /// less before — never rises.
     ///
     /// Reference: K. Erleben, "Velocity-based shock propagation for multibody dynamics animation",
-    /// ACM TOG 26(2), 2007, §3 (PGS); converges for symmetric positive definite `K`.
+    /// ACM TOG 26(2), 2007, §3 (PGS, with the box clamp of friction); converges for symmetric
+    /// positive definite `K`.
     fn solve_pgs(&mut self, n: usize) {
         self.lambda[..n].fill(0.0);
         for _ in 0..MAX_SWEEPS {
             let mut change = 0.0_f64;
             let mut size = 0.0_f64;
             for r in 0..n {
-                // λ_r ← max(0, λ_r − (Σ_s K_rs λ_s − b_r) / K_rr)
+                // λ_r ← clamp(λ_r − (Σ_s K_rs λ_s − b_r) / K_rr, lo_r, hi_r)
                 let w: f64 = (0..n).map(|s| self.k[(r, s)] * self.lambda[s]).sum::<f64>() - self.rows[r].b;
                 let k_rr = self.k[(r, r)];
                 if k_rr.is_nan() || k_rr <= 0.0 {
                     continue;
                 }
-                let next = (self.lambda[r] - w / k_rr).max(0.0);
+                let next = (self.lambda[r] - w / k_rr).max(self.rows[r].lo).min(self.rows[r].hi);
                 change = change.max((next - self.lambda[r]).abs());
                 size = size.max(next.abs());
                 self.lambda[r] = next;
@@ -455,4 +689,34 @@ impl JointLimitSolver {
             }
         }
     }
+}
+
+/// Solves `k x = rhs` in place on the leading `m × m` block by Gaussian elimination with partial
+/// pivoting (`x` left in `rhs`); false when a pivot is at round-off of `k`'s scale (singular).
+fn eliminate(k: &mut DMatrix<f64>, x: &mut [f64], m: usize) -> bool {
+    let k_max = (0..m).map(|a| k[(a, a)].abs()).fold(0.0, f64::max);
+    for col in 0..m {
+        let p = (col..m).max_by(|&a, &b| k[(a, col)].abs().total_cmp(&k[(b, col)].abs())).unwrap_or(col);
+        // a pivot at round-off of K's scale: K_BB is singular (a joint with lower = upper)
+        let pivot = k[(p, col)].abs();
+        if pivot.is_nan() || pivot <= 1e-13 * k_max {
+            return false;
+        }
+        if p != col {
+            k.swap_rows(p, col);
+            x.swap(p, col);
+        }
+        for r in col + 1..m {
+            let f = k[(r, col)] / k[(col, col)];
+            for c in col..m {
+                k[(r, c)] -= f * k[(col, c)];
+            }
+            x[r] -= f * x[col];
+        }
+    }
+    for col in (0..m).rev() {
+        let tail: f64 = (col + 1..m).map(|c| k[(col, c)] * x[c]).sum();
+        x[col] = (x[col] - tail) / k[(col, col)];
+    }
+    true
 }

@@ -474,14 +474,17 @@ impl ModelBuilder {
         }
     }
 
-    /// Sets the armature, damping and spring of the joint of body `index`: each coefficient finite
-    /// and ≥ 0, a spring only on a one-coordinate joint.
+    /// Sets the armature, damping, spring and friction loss of the joint of body `index`: each
+    /// coefficient finite and ≥ 0, a spring only on a one-coordinate joint.
     pub fn set_dynamics(&mut self, index: usize, dynamics: JointDynamics) -> Result<(), ModelError> {
         let Some(b) = self.bodies.get_mut(index) else { return Ok(()) };
         let bad = |what: String| ModelError::BadJointDynamics { joint: b.joint.name.clone(), what };
-        for (name, x) in
-            [("armature", dynamics.armature), ("damping", dynamics.damping), ("stiffness", dynamics.stiffness)]
-        {
+        for (name, x) in [
+            ("armature", dynamics.armature),
+            ("damping", dynamics.damping),
+            ("stiffness", dynamics.stiffness),
+            ("friction_loss", dynamics.friction_loss),
+        ] {
             if !(x.is_finite() && x >= 0.0) {
                 return Err(bad(format!("{name} must be finite and ≥ 0 (got {x})")));
             }

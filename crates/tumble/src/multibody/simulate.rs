@@ -9,7 +9,10 @@
 //!
 //! Joint position limits ([`JointLimitSolver`], enabled by [`Simulator::set_joint_limits`]) act in
 //! two phases around the integrator: an inelastic, speculative impulse at the start of the step and
-//! a constraint force over the step applied at its end (see [`super::limits`]).
+//! a constraint force over the step applied at its end (see [`super::limits`]). The joints' dry
+//! friction ([`JointDynamics::friction_loss`](super::joint::JointDynamics)) is solved with the
+//! limits in that end phase, a bounded force `|τ| ≤ F` over the step, whether limits are enforced
+//! or not.
 //!
 //! Integrators: `rk4` (classical, 4th order; `q` moves through ℝ^nq and quaternions are renormalised
 //! at the end of each step, which keeps the order) and `semi_implicit_euler`
@@ -284,22 +287,25 @@ pub struct Simulator {
 }
 
 impl Simulator {
-    /// A simulator starting at `(q, v)` at `t = 0`.
+    /// A simulator starting at `(q, v)` at `t = 0`: limits off, the joints' friction loss on.
     pub fn new(model: &MultibodyModel, q: Vec<f64>, v: Vec<f64>) -> Result<Self, LengthError> {
         check_len("q", q.len(), model.nq())?;
         check_len("v", v.len(), model.nv())?;
         let (nq, nv) = (model.nq(), model.nv());
+        let mut ws = Workspace::new(model);
+        // a model with friction loss gets its rows now (there is no switch for them)
+        let limits = JointLimitSolver::new(model, &mut ws, false);
         Ok(Self {
             q,
             v,
             t: 0.0,
-            ws: Workspace::new(model),
+            ws,
             tau: vec![0.0; nv],
             k_q: std::array::from_fn(|_| vec![0.0; nq]),
             k_v: std::array::from_fn(|_| vec![0.0; nv]),
             q_stage: vec![0.0; nq],
             v_stage: vec![0.0; nv],
-            limits: None,
+            limits,
             clamped: vec![false; nv],
             tau_contact: vec![0.0; nv],
             contact_force: false,
@@ -307,12 +313,13 @@ impl Simulator {
     }
 
     /// Enforces (or not) the position limits of `model`'s revolute and prismatic joints. Off by
-    /// default; with no limited joint it stays off.
+    /// default; with no limited joint it stays off. The joints' friction loss acts either way.
     pub fn set_joint_limits(&mut self, model: &MultibodyModel, on: bool) {
-        self.limits = if on { JointLimitSolver::new(model, &mut self.ws) } else { None };
+        self.limits = JointLimitSolver::new(model, &mut self.ws, on);
     }
 
-    /// The joint-limit solver, when limits are enforced (which joints, how often they pushed).
+    /// The joint-limit and friction-loss solver, when limits are enforced or a joint has friction
+    /// loss (which joints, how often they pushed; [`JointLimitSolver::has_limits`]).
     pub fn joint_limits(&self) -> Option<&JointLimitSolver> {
         self.limits.as_ref()
     }
@@ -381,6 +388,7 @@ impl Simulator {
             // phase 1: the speculative, inelastic impulse at (q₀, v₀)
             limits.begin_step(&self.q);
             limits.apply(model, &mut self.ws, Phase::Impact, dt, &mut self.q, &mut self.v);
+            limits.begin_integration(&self.v);
         }
         match (method, contact) {
             (Method::SemiImplicitEuler | Method::Euler, Some(ContactChange::Held { v, .. })) => {
@@ -421,18 +429,24 @@ impl Simulator {
             self.contact_force = false;
         }
         if let Some(limits) = self.limits.as_mut().filter(|_| !held) {
-            // phase 2: the constraint force over the step, Δq = c h Δv (c = ½ for RK4, 1 for
-            // semi-implicit Euler); explicit Euler's q cannot move, its v meets phase 1's condition
-            // (then the velocity condition of phase 1 at the end state removes what is left of the
-            // velocity into the limit: RK4's acceleration is not exactly constant over the step)
-            match method {
-                Method::Rk4 => limits.apply(model, &mut self.ws, Phase::Force { c: 0.5 }, dt, &mut self.q, &mut self.v),
-                Method::SemiImplicitEuler => {
-                    limits.apply(model, &mut self.ws, Phase::Force { c: 1.0 }, dt, &mut self.q, &mut self.v)
+            // phase 2: the constraint force over the step, limits and friction together,
+            // Δq = c h Δv (c = ½ for RK4, 1 for semi-implicit Euler); explicit Euler's q cannot
+            // move, its v meets phase 1's condition and its friction acts on v alone (then the
+            // velocity condition of phase 1 at the end state removes what is left of the velocity
+            // into the limit: RK4's acceleration is not exactly constant over the step)
+            let end_friction = match method {
+                Method::Rk4 => {
+                    limits.apply(model, &mut self.ws, Phase::Force { c: 0.5 }, dt, &mut self.q, &mut self.v);
+                    false
                 }
-                Method::Euler => {}
-            }
-            limits.apply(model, &mut self.ws, Phase::EndVelocity, dt, &mut self.q, &mut self.v);
+                Method::SemiImplicitEuler => {
+                    limits.apply(model, &mut self.ws, Phase::Force { c: 1.0 }, dt, &mut self.q, &mut self.v);
+                    false
+                }
+                Method::Euler => true,
+            };
+            let phase = Phase::EndVelocity { friction: end_friction };
+            limits.apply(model, &mut self.ws, phase, dt, &mut self.q, &mut self.v);
             limits.end_step();
         }
         self.t += dt;

@@ -243,7 +243,7 @@ impl Robot {
 
     /// Whether joint position limits are enforced (and the robot has some).
     pub fn joint_limits_enforced(&self) -> bool {
-        self.sim.joint_limits().is_some()
+        self.sim.joint_limits().is_some_and(|s| s.has_limits())
     }
 
     /// The joints whose commanded force was clamped to their effort limit, with the number of

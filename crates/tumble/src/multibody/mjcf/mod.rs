@@ -19,7 +19,7 @@
 //! world frame.
 //!
 //! Refused with `file:line:col: <element attr>: not supported (…)`: what changes the dynamics and
-//! is not read (equality constraints, tendons, `frictionloss`, fluid forces, `mocap`, `gravcomp`,
+//! is not read (equality constraints, tendons that act, fluid forces, `mocap`, `gravcomp`,
 //! heightfields, plugins, composites, flex, …); `solref`, `solimp`, `margin` and the other soft-
 //! contact parameters are reported once as not used. Visual elements are skipped.
 
@@ -279,9 +279,9 @@ pub struct MjcfBody {
 /// Options of [`load_mjcf`] and [`parse_mjcf`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MjcfOptions {
-    /// Read joints with `frictionloss` as if it were zero, with one warning per joint, instead of
-    /// refusing them: MuJoCo's dry joint friction is a constraint that tumble does not build yet, so
-    /// the dynamics are then MuJoCo's with `<flag frictionloss="disable">`.
+    /// Read joints with `frictionloss` as if it were zero, with one warning per joint: the dynamics
+    /// are then MuJoCo's with `<flag frictionloss="disable">` (without it, `frictionloss` is read
+    /// into [`JointDynamics::friction_loss`](crate::multibody::JointDynamics)).
     pub drop_frictionloss: bool,
 }
 

@@ -209,22 +209,19 @@ impl<'a> Reader<'a> {
             "ball" => Kind::Ball,
             _ => Kind::Free,
         };
-        if !self.options.drop_frictionloss {
-            v.refuse_unless(
-                "frictionloss",
-                all_zero,
-                "frictionloss: dry joint friction is a constraint not built yet; `drop_frictionloss` reads the model \
-                 without it",
-            )?;
-        } else if let Some(a) = v.get("frictionloss").filter(|a| !all_zero(&a.value)) {
+        // dry joint friction, F ≥ 0; `drop_frictionloss` reads the model as if F = 0 (MuJoCo's
+        // `<flag frictionloss="disable">`), with a warning per joint that had one
+        let mut friction_loss = v.nonneg("frictionloss", 0.0)?;
+        if self.options.drop_frictionloss && friction_loss != 0.0 {
             self.warnings.push(format!(
                 "{}:{}:{}: <joint frictionloss>: joint '{}': frictionloss {} dropped (drop_frictionloss)",
                 el.pos.file,
                 el.pos.line,
                 el.pos.column,
                 el.attr("name").map(|a| a.value.as_str()).unwrap_or(""),
-                a.value.trim()
+                friction_loss
             ));
+            friction_loss = 0.0;
         }
         v.refuse_unless("springdamper", all_zero, "springdamper")?;
         v.refuse_unless("actuatorgravcomp", |s| s == "false", "actuatorgravcomp")?;
@@ -267,6 +264,7 @@ impl<'a> Reader<'a> {
             damping: v.nonneg("damping", 0.0)?,
             stiffness: v.nonneg("stiffness", 0.0)?,
             spring_ref: 0.0,
+            friction_loss,
         };
         if dynamics.stiffness != 0.0 && matches!(kind, Kind::Ball | Kind::Free) {
             return Err(v.err("stiffness", unsupported("springs on ball and free joints")));
