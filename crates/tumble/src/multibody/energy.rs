@@ -16,7 +16,7 @@ use crate::math::DVec3;
 pub fn kinetic_energy(model: &MultibodyModel, ws: &mut Workspace, q: &[f64], v: &[f64]) -> Result<f64, LengthError> {
     forward_kinematics(model, ws, q, v)?;
     // T = ½ Σ v_iᵀ I_i v_i
-    let mut t: f64 = model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum();
+    let t: f64 = model.bodies.iter().zip(&ws.v).map(|(b, v_i)| b.inertia.kinetic_energy(*v_i)).sum();
     Ok(t + armature_energy(model, v))
 }
 
