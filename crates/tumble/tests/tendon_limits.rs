@@ -167,7 +167,7 @@ fn a_limited_tendon_never_leaves_its_range_in_a_free_swing_and_its_strikes_take_
             e_prev = e;
         }
         let e1 = scene.world.robots[0].energy();
-        let strikes = scene.world.robots[0].tendon_limit_activity()[0].1;
+        let strikes = scene.world.robots[0].tendon_limit_activity().first().map_or(0, |t| t.1);
         eprintln!(
             "{integrator}: |L| ≤ 0.3 + {worst:.2e} (free: up to {free_max:.3}); E {e0:.6} → {e1:.6} J, largest rise over a step \
              {rise:.2e} J; limit active in {strikes} steps"
