@@ -53,8 +53,8 @@ fn refusals_name_the_element_attribute_and_position() {
         ("<mujoco><compiler coordinate=\"global\"/></mujoco>", "<compiler coordinate>: not supported"),
         ("<mujoco><tendon><spatial/></tendon></mujoco>", "<spatial>: not supported (spatial tendons)"),
         (
-            "<mujoco><tendon><fixed range=\"0 1\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>",
-            "<fixed range>: not supported (a limited tendon",
+            "<mujoco><tendon><fixed frictionloss=\"1\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>",
+            "<fixed frictionloss>: not supported (tendon frictionloss",
         ),
         ("<mujoco><equality><weld body1=\"a\"/></equality></mujoco>", "<weld>: not supported (an <equality>"),
         (&model("<geom type=\"hfield\" hfield=\"h\"/>"), "<geom type>: not supported (heightfields)"),
@@ -119,6 +119,14 @@ fn malformed_input_names_its_position() {
                 &model("<joint name=\"j\"/>")[..model("<joint name=\"j\"/>").len() - 10]
             ),
             "<joint>: missing attribute 'coef'",
+        ),
+        (
+            "<mujoco><tendon><fixed range=\"1 0\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>",
+            "test.xml:1:24: <fixed range>: lower 1 > upper 0",
+        ),
+        (
+            "<mujoco><tendon><fixed limited=\"true\"><joint joint=\"a\" coef=\"1\"/></fixed></tendon></mujoco>",
+            "<fixed limited>: limited without a range",
         ),
         ("<mujoco><worldbody><body quat=\"1 0 0 0\" euler=\"0 0 0\"/></worldbody></mujoco>", "orientation given twice"),
         ("<mujoco><worldbody><body><joint/></body></worldbody></mujoco>", "moves a subtree without mass"),

@@ -49,7 +49,11 @@
 //!    coordinates grows by `h v`, which moves the point by `J_c d` (the row's separation).
 //!
 //! **Joint rows.** The joint limits of an engaged robot are rows `J = s e_iᵀ` of the same substeps
-//! (one-sided, with the contacts' position bias and softness), and so is its joints' dry friction
+//! (one-sided, with the contacts' position bias and softness), and so are the limits of its
+//! limited fixed tendons, rows `J = ±J_t` on the length `L = L₀ + Σ c_k q_k` (`s c_k` on each
+//! term's coordinate; the row's chain is the union of the terms' paths to the root, which
+//! [`delassus`](crate::multibody::contact_point) handles as a chain that is not a path), with the
+//! gap `L − lo` or `hi − L`; and so is its joints' dry friction
 //! (MuJoCo documentation, *Computation*: friction loss): per velocity coordinate `k` of a joint with
 //! friction loss `F`, a row `J = e_kᵀ` with
 //!
@@ -156,12 +160,14 @@ struct Row {
 }
 
 /// A joint-limit row of a robot the contact rows engage: `J = s e_iᵀ` in joint space (`s = +1` at a
-/// lower limit, `−1` at an upper one), one-sided, without friction; a row of the robot's contact
-/// space. Solved in the same substeps as the contact rows, so that the two never fight.
+/// lower limit, `−1` at an upper one), or `J = s J_t` for a limited fixed tendon, one-sided,
+/// without friction; a row of the robot's contact space. Solved in the same substeps as the contact
+/// rows, so that the two never fight.
 #[derive(Debug, Clone, Copy)]
 struct LimitRow {
     robot: usize,
-    /// Index among the robot's limited coordinates (for the run report).
+    /// Index among the robot's limited coordinates, then its limited tendons (for the run report:
+    /// [`crate::multibody::JointLimitSolver::note_active`]).
     limited: usize,
     /// Distance to the limit at the start of the step (rad or m; negative past it).
     gap: f64,
@@ -220,7 +226,7 @@ struct RobotSolve {
     /// Scratch of [`delassus`] (`D^{-1/2} Y` by blocks of rows, and the blocks), and the factor's
     /// `1 / D_k`, `D_k^{-1/2}` (nv).
     y_scaled: Vec<f64>,
-    blocks: Vec<(usize, usize)>,
+    blocks: Vec<(usize, usize, bool)>,
     inv_d: Vec<f64>,
     inv_sqrt_d: Vec<f64>,
     chain_of: Vec<(usize, usize)>,
@@ -432,8 +438,8 @@ impl LinkStage {
         k
     }
 
-    /// The joint-limit rows of the engaged robots: each limited coordinate that the step could
-    /// carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row; and their
+    /// The joint-limit rows of the engaged robots: each limited coordinate (and limited tendon length)
+    /// that the step could carry to its limit (`gap ≤ |v| dt` plus a margin) gets a one-sided row; and their
     /// friction-loss rows: every velocity coordinate of a joint with friction loss gets one.
     fn limit_rows(&mut self, robots: &dyn RobotViews, soft: Softness) {
         self.limit_rows.clear();
@@ -471,6 +477,32 @@ impl LinkStage {
                         // a joint that starts the step outside its limit is measured from where it
                         // is: the row stops further motion out and lets it come back, it does not
                         // push it in (as `multibody::limits` does without contact)
+                        gap: gap.max(0.0),
+                        off,
+                        normal_mass: 0.0,
+                        softness: soft,
+                        lambda: 0.0,
+                    });
+                }
+            }
+            // the limited fixed tendons: rows J = s J_t on `L = L₀ + Σ c_k q_k`, as the joints'
+            for (k, t, lower, upper) in limits.tendon_bounds() {
+                let tendon = &view.model.tendons[t];
+                let (length, rate) = (tendon.length(view.q), tendon.rate(&self.robots[r].v0));
+                for (sign, gap) in [(1.0, length - lower), (-1.0, upper - length)] {
+                    if gap > rate.abs() * self.dt + LIMIT_MARGIN {
+                        continue;
+                    }
+                    // J = s J_t: s c_k on each term's coordinate; its chain: the coordinates above
+                    // any of them
+                    let solve = &mut self.robots[r];
+                    let off = solve.add_rows(1, tendon_chain(view.model, &tendon.terms));
+                    for term in &tendon.terms {
+                        solve.jac[off * solve.nv + term.v_index] = sign * term.coef;
+                    }
+                    self.limit_rows.push(LimitRow {
+                        robot: r,
+                        limited: k,
                         gap: gap.max(0.0),
                         off,
                         normal_mass: 0.0,
@@ -1132,6 +1164,16 @@ impl RobotSolve {
             }
         }
     }
+}
+
+/// The coordinates on the path to the root of any of a fixed tendon's terms, in decreasing index
+/// (deepest first: a coordinate's parent has a smaller index), each once: a union of paths, closed
+/// under the parent relation.
+fn tendon_chain<'a>(
+    model: &'a MultibodyModel,
+    terms: &'a [crate::multibody::tendon::TendonTerm],
+) -> impl Iterator<Item = usize> + 'a {
+    (0..model.nv()).rev().filter(move |&k| terms.iter().any(|t| dof_chain(model, t.v_index).any(|d| d == k)))
 }
 
 /// Velocity coordinate `k` and those above it, deepest first.

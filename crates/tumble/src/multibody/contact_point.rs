@@ -143,10 +143,16 @@ pub(crate) fn delassus_scratch_len(rows: usize, nv: usize) -> usize {
 /// tree for the block's `Y`, and `G`'s block of two blocks as sums of lane-wise products, with no
 /// horizontal sum.
 ///
+/// A chain may also be a union of paths (a fixed tendon's row over joints on several branches:
+/// the coordinates above any of its joints, in decreasing index, which is deepest first since a
+/// coordinate's parent has a smaller index); `c_i ∩ c_j` is then not a common tail, and a pair
+/// with such a chain sums over the coordinates of `c_i` that are in `c_j`.
+///
 /// `y`: `n` rows of length nv, holding `J` on entry and `Y` on return; row `i` is zero outside
 /// `chains[chain_of[i].0..][..chain_of[i].1]` (velocity coordinates, deepest first, closed under
 /// [`MultibodyModel::dof_parent`]). `scratch`: at least [`delassus_scratch_len`]. `inv_sqrt_d`: the
-/// `D_k^{-1/2}` of the factor (nv). `blocks`: cleared, then each block's first row and row count.
+/// `D_k^{-1/2}` of the factor (nv). `blocks`: cleared, then each block's first row, row count, and
+/// whether its chain is a path (each coordinate's parent the next).
 /// `g`: `n × n`, row-major, symmetric on return. Needs the factors of [`super::ltdl_factor`] in
 /// `ws`; lengths checked by the caller.
 ///
@@ -159,7 +165,7 @@ pub(crate) fn delassus(
     inv_sqrt_d: &[f64],
     y: &mut [f64],
     scratch: &mut [f64],
-    blocks: &mut Vec<(usize, usize)>,
+    blocks: &mut Vec<(usize, usize, bool)>,
     chain_of: &[(usize, usize)],
     chains: &[usize],
     g: &mut [f64],
@@ -183,7 +189,7 @@ fn delassus_avx2(
     inv_sqrt_d: &[f64],
     y: &mut [f64],
     scratch: &mut [f64],
-    blocks: &mut Vec<(usize, usize)>,
+    blocks: &mut Vec<(usize, usize, bool)>,
     chain_of: &[(usize, usize)],
     chains: &[usize],
     g: &mut [f64],
@@ -199,7 +205,7 @@ fn delassus_in(
     inv_sqrt_d: &[f64],
     y: &mut [f64],
     scratch: &mut [f64],
-    blocks: &mut Vec<(usize, usize)>,
+    blocks: &mut Vec<(usize, usize, bool)>,
     chain_of: &[(usize, usize)],
     chains: &[usize],
     g: &mut [f64],
@@ -215,12 +221,15 @@ fn delassus_in(
         while count < L && first + count < n && chain_of[first + count] == chain_of[first] {
             count += 1;
         }
-        blocks.push((first, count));
+        let chain = &chains[chain_of[first].0..chain_of[first].0 + chain_of[first].1];
+        let path = chain.windows(2).all(|w| model.dof_parent(w[0]) == w[1])
+            && chain.last().is_none_or(|&k| model.dof_parent(k) == NONE);
+        blocks.push((first, count, path));
         first += count;
     }
     let chain = |row: usize| &chains[chain_of[row].0..chain_of[row].0 + chain_of[row].1];
     // each block's D^{-1/2} Y, lanes side by side: scratch[b nv L + k L + lane]; Y back into `y`
-    for (b, &(first, count)) in blocks.iter().enumerate() {
+    for (b, &(first, count, _)) in blocks.iter().enumerate() {
         let block = &mut scratch[b * nv * L..(b + 1) * nv * L];
         let chain = chain(first);
         for &k in chain {
@@ -254,22 +263,32 @@ fn delassus_in(
             }
         }
     }
-    for (bi, &(first_i, count_i)) in blocks.iter().enumerate() {
+    for (bi, &(first_i, count_i, path_i)) in blocks.iter().enumerate() {
         let chain_i = chain(first_i);
         let block_i = &scratch[bi * nv * L..(bi + 1) * nv * L];
-        for (bj, &(first_j, count_j)) in blocks.iter().enumerate().skip(bi) {
+        for (bj, &(first_j, count_j, path_j)) in blocks.iter().enumerate().skip(bi) {
             let chain_j = chain(first_j);
             let block_j = &scratch[bj * nv * L..(bj + 1) * nv * L];
-            // c_i ∩ c_j: the common tail of the two chains
-            let common = chain_i.iter().rev().zip(chain_j.iter().rev()).take_while(|(a, b)| a == b).count();
             // sums[c][r] = G_{first_i + r, first_j + c} = Σ_k (D^{-1/2} Y)_{k, i+r} (D^{-1/2} Y)_{k, j+c}
             let mut sums = [[0.0; L]; L];
-            for &k in &chain_i[chain_i.len() - common..] {
+            let mut add = |k: usize| {
                 let (a, b) = (&block_i[k * L..(k + 1) * L], &block_j[k * L..(k + 1) * L]);
                 for c in 0..L {
                     for r in 0..L {
                         sums[c][r] += a[r] * b[c];
                     }
+                }
+            };
+            if path_i && path_j {
+                // c_i ∩ c_j: the common tail of the two chains
+                let common = chain_i.iter().rev().zip(chain_j.iter().rev()).take_while(|(a, b)| a == b).count();
+                for &k in &chain_i[chain_i.len() - common..] {
+                    add(k);
+                }
+            } else {
+                // a union of paths (a tendon's row): the coordinates of c_i in c_j
+                for &k in chain_i.iter().filter(|k| chain_j.contains(k)) {
+                    add(k);
                 }
             }
             for (c, column) in sums.iter().enumerate().take(count_j) {
@@ -408,13 +427,34 @@ mod tests {
         add(c, &r);
         let (c, r) = unit_row(8, 1.0);
         add(c, &r);
+        // a fixed tendon's row over coordinates on two branches: its chain the union of their
+        // paths, decreasing (not a path: its intersections with the others are not common tails)
+        let (k1, k2) = (7, nv - 1);
+        let above = |k: usize, mut d: usize| loop {
+            if d == k {
+                return true;
+            }
+            if d == NONE {
+                return false;
+            }
+            d = model.dof_parent(d);
+        };
+        let union: Vec<usize> = (0..nv).rev().filter(|&k| above(k, k1) || above(k, k2)).collect();
+        let mut tendon = vec![0.0; nv];
+        tendon[k1] = 0.7;
+        tendon[k2] = -1.3;
+        add(union.clone(), &[tendon.clone()]);
+        let (c, r) = point_rows(4, DVec3::new(0.1, -0.2, 0.0));
+        add(c, &r);
+        add(union, &[tendon.iter().map(|x| -x).collect()]);
         let n = chain_of.len();
         let inv_sqrt_d: Vec<f64> = (0..nv).map(|k| 1.0 / ws.ltdl[(k, k)].sqrt()).collect();
         let mut y = jac.clone();
         let mut scratch = vec![f64::NAN; delassus_scratch_len(n, nv)];
         let (mut blocks, mut g) = (Vec::new(), vec![f64::NAN; n * n]);
         delassus(&model, &ws, &inv_sqrt_d, &mut y, &mut scratch, &mut blocks, &chain_of, &chains, &mut g);
-        assert_eq!(blocks.iter().map(|b| b.1).collect::<Vec<_>>(), [3, 3, 1, 4, 1, 3, 1]);
+        assert_eq!(blocks.iter().map(|b| b.1).collect::<Vec<_>>(), [3, 3, 1, 4, 1, 3, 1, 1, 3, 1]);
+        assert_eq!(blocks.iter().filter(|b| !b.2).count(), 2, "the tendon rows' chains are not paths");
         let mut worst: f64 = 0.0;
         for j in 0..n {
             let mut w = jac[j * nv..(j + 1) * nv].to_vec();

@@ -15,6 +15,23 @@
 //! Δv = M⁻¹ Jᵀ λ,   K_rs = J_r M⁻¹ J_sᵀ = s_r s_s (M⁻¹)_{i_r i_s}
 //! ```
 //!
+//! A limited fixed tendon (MJCF `<tendon><fixed range>`: module [`super::tendon`]; MuJoCo
+//! documentation, *Modeling*: tendons, and *Computation*: limits, which treats a tendon's limit as
+//! a joint's, on its length) gives the same two rows on its length `L = L₀ + Σ c_k q_k`, whose
+//! Jacobian `J_t = (c_k)` is constant:
+//!
+//! ```text
+//! lower: J = +J_t, gap g = L − lo ≥ 0           upper: J = −J_t, gap g = hi − L ≥ 0
+//! u = s J_t v,  M⁻¹ Jᵀ = s M⁻¹ J_tᵀ (one sparse solve, Featherstone §6.5),  K_rs = J_r M⁻¹ J_sᵀ
+//! ```
+//!
+//! Everything below holds for them unchanged (`L` is linear in `q`, so `Δq = c h Δv` moves it by
+//! exactly `c h J_t Δv`). A row is stored as its sign and either a coordinate (a joint's, `J = s e_iᵀ`:
+//! its column `M⁻¹ e_i` and `K_rs = s_r s_s (M⁻¹)_{i_r i_s}`, computed as before, bit for bit) or
+//! a tendon (`J = s J_t`: the column `M⁻¹ J_tᵀ`, `K_rs = s_r s_s J_t · (M⁻¹ J_sᵀ / s_s)`). Tendon rows
+//! exist when limits are on, as the joints'; their activity is counted apart
+//! ([`JointLimitSolver::tendon_active_steps`]).
+//!
 //! Rows are solved together (several joints at their limits couple through `M⁻¹`) as the linear
 //! complementarity problem `w = K λ − b ≥ 0, λ ≥ 0, λᵀ w = 0`, exactly, by Murty's principal
 //! pivoting (K is symmetric positive definite, a P-matrix, so the least-index rule ends; projected
@@ -80,6 +97,7 @@ use super::crba::crba;
 use super::joint::JointKind;
 use super::ltdl::{ltdl_factor, ltdl_solve};
 use super::model::MultibodyModel;
+use super::tendon::TendonTerm;
 use super::workspace::{ensure_square, Workspace};
 use nalgebra::DMatrix;
 
@@ -115,14 +133,25 @@ impl Phase {
     }
 }
 
-/// A limited coordinate: `q[q_index] ∈ [lower, upper]`, its velocity `v[v_index]`.
+/// A limited quantity `x ∈ [lower, upper]`: a joint coordinate `x = q[q_index]` (velocity
+/// `v[v_index]`, `J = e_iᵀ`), or a fixed tendon's length `x = L₀ + Σ c_k q_k` (`J = J_t`, its
+/// terms `tendon_terms[terms.0..terms.1]`, an empty range for a joint).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Limited {
     q_index: usize,
     v_index: usize,
     lower: f64,
     upper: f64,
+    /// A tendon's `L₀` (0 for a joint).
+    offset: f64,
+    /// A tendon's terms in [`JointLimitSolver::tendon_terms`]; empty for a joint.
+    terms: (usize, usize),
+    /// A tendon's index in [`MultibodyModel::tendons`] ([`NONE`] for a joint).
+    tendon: usize,
 }
+
+/// [`Limited::tendon`] of a joint.
+const NONE: usize = usize::MAX;
 
 /// A velocity coordinate with dry friction: `|τ_friction| ≤ friction_loss` on `v[v_index]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,9 +171,10 @@ const FRICTION: usize = usize::MAX;
 struct Row {
     /// Index into `limited`; [`FRICTION`] for a friction row.
     coord: usize,
-    /// The velocity coordinate `i` of `J = s e_iᵀ`.
+    /// The velocity coordinate `i` of `J = s e_iᵀ` (a joint's or a friction row); [`NONE`] for a
+    /// tendon's row `J = s J_t`.
     v_index: usize,
-    /// `+1` for a lower limit or a friction row, `−1` for an upper limit (`J = s e_i`).
+    /// `+1` for a lower limit or a friction row, `−1` for an upper limit (`J = s e_iᵀ`, `s J_t`).
     sign: f64,
     /// The change of row velocity it asks for (m/s or rad/s).
     b: f64,
@@ -169,7 +199,11 @@ enum Bound {
 /// simulator).
 #[derive(Debug, Clone)]
 pub struct JointLimitSolver {
+    /// The limited joint coordinates (the first `n_joints`), then the limited tendons.
     limited: Vec<Limited>,
+    n_joints: usize,
+    /// The limited tendons' terms, one after the other.
+    tendon_terms: Vec<TendonTerm>,
     frictional: Vec<Frictional>,
     /// The boxed solve's state per row (friction rows present).
     bound: Vec<Bound>,
@@ -177,7 +211,8 @@ pub struct JointLimitSolver {
     /// is the reference of a joint that started outside).
     start_gap: Vec<[f64; 2]>,
     rows: Vec<Row>,
-    /// `M⁻¹ e_{i_r}` for each active row `r`, column `r` (nv × 2 n_limited).
+    /// `M⁻¹ J_rᵀ / s_r` for each active row `r` (`M⁻¹ e_i` for a joint's row, `M⁻¹ J_tᵀ` for a
+    /// tendon's), column `r` (nv × rows at most).
     minv_cols: DMatrix<f64>,
     /// `K` (rows × rows, stored 2 n_limited square).
     k: DMatrix<f64>,
@@ -194,17 +229,18 @@ pub struct JointLimitSolver {
     dv: Vec<f64>,
     /// Scratch configuration (nq).
     q_tmp: Vec<f64>,
-    /// Steps in which each limited coordinate had a row with `λ > 0`.
+    /// Steps in which each limited coordinate (then each limited tendon) had a row with `λ > 0`.
     active_steps: Vec<u64>,
     active_now: Vec<bool>,
 }
 
 impl JointLimitSolver {
-    /// The solver for every revolute and prismatic joint of `model` that has position limits (when
-    /// `limits` is on) and every velocity coordinate of a joint with friction loss (always), with
-    /// its buffers; `None` when there is neither. Also sizes `ws`'s mass matrix and factor.
+    /// The solver for every revolute and prismatic joint of `model` that has position limits and
+    /// every fixed tendon with a length range (when `limits` is on), and every velocity coordinate
+    /// of a joint with friction loss (always), with its buffers; `None` when there is none of them.
+    /// Also sizes `ws`'s mass matrix and factor.
     pub fn new(model: &MultibodyModel, ws: &mut Workspace, limits: bool) -> Option<Self> {
-        let limited: Vec<Limited> = model
+        let mut limited: Vec<Limited> = model
             .bodies
             .iter()
             .filter_map(|b| {
@@ -215,10 +251,32 @@ impl JointLimitSolver {
                     v_index: j.v_index,
                     lower,
                     upper,
+                    offset: 0.0,
+                    terms: (0, 0),
+                    tendon: NONE,
                 })
             })
             .filter(|_| limits)
             .collect();
+        let n_joints = limited.len();
+        let mut tendon_terms: Vec<TendonTerm> = Vec::new();
+        for (index, t) in model.tendons.iter().enumerate().filter(|_| limits) {
+            let Some((lower, upper)) = t.range else { continue };
+            if t.terms.is_empty() {
+                continue;
+            }
+            let start = tendon_terms.len();
+            tendon_terms.extend_from_slice(&t.terms);
+            limited.push(Limited {
+                q_index: NONE,
+                v_index: NONE,
+                lower,
+                upper,
+                offset: t.offset,
+                terms: (start, tendon_terms.len()),
+                tendon: index,
+            });
+        }
         let frictional: Vec<Frictional> = model
             .bodies
             .iter()
@@ -239,7 +297,7 @@ impl JointLimitSolver {
             ws.ltdl = ws.mass_matrix.clone();
         }
         let n = limited.len();
-        // rows at most: two per limited coordinate, one per frictional one
+        // rows at most: two per limited coordinate or tendon, one per frictional coordinate
         let m = 2 * n + frictional.len();
         Some(Self {
             start_gap: vec![[0.0; 2]; n],
@@ -258,11 +316,13 @@ impl JointLimitSolver {
             active_steps: vec![0; n],
             active_now: vec![false; n],
             limited,
+            n_joints,
+            tendon_terms,
             frictional,
         })
     }
 
-    /// Whether it enforces position limits (limits on and some joint limited).
+    /// Whether it enforces position limits (limits on and some joint or tendon limited).
     pub fn has_limits(&self) -> bool {
         !self.limited.is_empty()
     }
@@ -274,16 +334,30 @@ impl JointLimitSolver {
 
     /// The velocity coordinates that have limits, in the order of [`active_steps`](Self::active_steps).
     pub fn limited_dofs(&self) -> impl Iterator<Item = usize> + '_ {
-        self.limited.iter().map(|l| l.v_index)
+        self.limited[..self.n_joints].iter().map(|l| l.v_index)
     }
 
     /// Each limited coordinate: `(q_index, v_index, lower, upper)`.
     pub fn bounds(&self) -> impl Iterator<Item = (usize, usize, f64, f64)> + '_ {
-        self.limited.iter().map(|l| (l.q_index, l.v_index, l.lower, l.upper))
+        self.limited[..self.n_joints].iter().map(|l| (l.q_index, l.v_index, l.lower, l.upper))
+    }
+
+    /// Each limited tendon, after the limited coordinates: its index for
+    /// [`note_active`](Self::note_active) (the number of limited coordinates plus its rank), its
+    /// index in [`MultibodyModel::tendons`], and its range `[lower, upper]` on `L`.
+    pub fn tendon_bounds(&self) -> impl Iterator<Item = (usize, usize, f64, f64)> + '_ {
+        self.limited.iter().enumerate().skip(self.n_joints).map(|(k, l)| (k, l.tendon, l.lower, l.upper))
+    }
+
+    /// The limited tendons (indices in [`MultibodyModel::tendons`]), in the order of
+    /// [`tendon_active_steps`](Self::tendon_active_steps).
+    pub fn limited_tendons(&self) -> impl Iterator<Item = usize> + '_ {
+        self.limited[self.n_joints..].iter().map(|l| l.tendon)
     }
 
     /// Counts a step in which the limit of the `k`-th limited coordinate pushed (from a solve made
-    /// elsewhere: the contact solver's, for a robot held by resting contact).
+    /// elsewhere: the contact solver's, for a robot held by resting contact); a `k` past the
+    /// limited coordinates is a limited tendon's ([`tendon_bounds`](Self::tendon_bounds)).
     pub fn note_active(&mut self, k: usize) {
         if let Some(count) = self.active_steps.get_mut(k) {
             *count += 1;
@@ -292,13 +366,53 @@ impl JointLimitSolver {
 
     /// For each limited coordinate, the number of steps in which its limit pushed.
     pub fn active_steps(&self) -> &[u64] {
-        &self.active_steps
+        &self.active_steps[..self.n_joints]
+    }
+
+    /// For each limited tendon, the number of steps in which its limit pushed.
+    pub fn tendon_active_steps(&self) -> &[u64] {
+        &self.active_steps[self.n_joints..]
+    }
+
+    /// The limited quantity `coord` at `q`: the joint coordinate, or the tendon's `L(q)` (as
+    /// [`FixedTendon::length`](super::tendon::FixedTendon::length) computes it).
+    #[inline]
+    fn value(&self, coord: usize, q: &[f64]) -> f64 {
+        let l = &self.limited[coord];
+        if l.tendon == NONE {
+            q[l.q_index]
+        } else {
+            l.offset + self.tendon_terms[l.terms.0..l.terms.1].iter().map(|t| t.coef * q[t.q_index]).sum::<f64>()
+        }
+    }
+
+    /// `J x` of the limited quantity `coord` (unsigned): `x_i` for a joint, `J_t x` for a tendon.
+    #[inline]
+    fn jacobian_dot(&self, coord: usize, x: &[f64]) -> f64 {
+        let l = &self.limited[coord];
+        if l.tendon == NONE {
+            x[l.v_index]
+        } else {
+            self.tendon_terms[l.terms.0..l.terms.1].iter().map(|t| t.coef * x[t.v_index]).sum()
+        }
+    }
+
+    /// `J_r x` of row `r` without its sign.
+    #[inline]
+    fn row_dot(&self, r: usize, x: &[f64]) -> f64 {
+        let row = &self.rows[r];
+        if row.v_index != NONE {
+            x[row.v_index]
+        } else {
+            self.jacobian_dot(row.coord, x)
+        }
     }
 
     /// Records the gaps at the start of a step and clears the step's activity.
     pub fn begin_step(&mut self, q: &[f64]) {
-        for (l, gap) in self.limited.iter().zip(&mut self.start_gap) {
-            *gap = [q[l.q_index] - l.lower, l.upper - q[l.q_index]];
+        for coord in 0..self.limited.len() {
+            let (x, l) = (self.value(coord, q), &self.limited[coord]);
+            self.start_gap[coord] = [x - l.lower, l.upper - x];
         }
         self.active_now.fill(false);
     }
@@ -311,7 +425,7 @@ impl JointLimitSolver {
         }
     }
 
-    /// Counts the coordinates whose limit pushed during the step.
+    /// Counts the coordinates (and tendons) whose limit pushed during the step.
     pub fn end_step(&mut self) {
         for (count, &on) in self.active_steps.iter_mut().zip(&self.active_now) {
             *count += u64::from(on);
@@ -364,7 +478,8 @@ impl JointLimitSolver {
         }
     }
 
-    /// The change of row velocity asked by row `(coord, sign)` at `(q_i, v_i)`, and its gap.
+    /// The change of row velocity asked by row `(coord, sign)` at `(x, J v)` (the coordinate or
+    /// tendon length and its rate), and its gap.
     fn demand(&self, phase: Phase, h: f64, coord: usize, side: usize, q_i: f64, v_i: f64) -> (f64, f64) {
         let l = &self.limited[coord];
         let (sign, gap) = if side == 0 { (1.0, q_i - l.lower) } else { (-1.0, l.upper - q_i) };
@@ -387,8 +502,9 @@ impl JointLimitSolver {
         let mut needed = false;
         for coord in 0..self.limited.len() {
             let l = self.limited[coord];
+            let (x, u) = (self.value(coord, q), self.jacobian_dot(coord, v));
             for side in 0..2 {
-                let (b, gap) = self.demand(phase, h, coord, side, q[l.q_index], v[l.v_index]);
+                let (b, gap) = self.demand(phase, h, coord, side, x, u);
                 if b > 0.0 {
                     needed = true;
                 } else if gap >= NEAR_GAP && !self.forced[coord][side] {
@@ -439,15 +555,16 @@ impl JointLimitSolver {
     fn push_forced(&mut self, phase: Phase, h: f64, q: &[f64], v: &[f64]) -> bool {
         let mut any = false;
         for coord in 0..self.limited.len() {
-            let l = self.limited[coord];
             for side in 0..2 {
                 if self.forced[coord][side]
                     || self.rows.iter().any(|r| r.coord == coord && (r.sign > 0.0) == (side == 0))
                 {
                     continue;
                 }
-                let (b, _) = self.demand(phase, h, coord, side, q[l.q_index], v[l.v_index]);
-                let du = if side == 0 { self.dv[l.v_index] } else { -self.dv[l.v_index] };
+                let (x, u) = (self.value(coord, q), self.jacobian_dot(coord, v));
+                let (b, _) = self.demand(phase, h, coord, side, x, u);
+                let j_dv = self.jacobian_dot(coord, &self.dv);
+                let du = if side == 0 { j_dv } else { -j_dv };
                 // still needs b − Δu > 0 after the others' impulses
                 if b - du > 1e-12 * (1.0 + b.abs()) {
                     self.forced[coord][side] = true;
@@ -462,20 +579,31 @@ impl JointLimitSolver {
     fn solve(&mut self, model: &MultibodyModel, ws: &Workspace) -> bool {
         let n = self.rows.len();
         for (r, row) in self.rows.iter().enumerate() {
-            // column r: M⁻¹ e_i
-            let i = row.v_index;
+            // column r: M⁻¹ e_i (a joint's row), M⁻¹ J_tᵀ (a tendon's: Featherstone §6.5)
             let mut col = self.minv_cols.column_mut(r);
             col.fill(0.0);
-            col[i] = 1.0;
+            if row.v_index != NONE {
+                col[row.v_index] = 1.0;
+            } else {
+                let l = &self.limited[row.coord];
+                for t in &self.tendon_terms[l.terms.0..l.terms.1] {
+                    col[t.v_index] += t.coef;
+                }
+            }
             if ltdl_solve(model, ws, col.as_mut_slice()).is_err() {
                 return false;
             }
         }
         for r in 0..n {
             for s in 0..n {
-                // K_rs = s_r s_s (M⁻¹)_{i_r i_s}
+                // K_rs = s_r s_s J_r M⁻¹ J_sᵀ: s_r s_s (M⁻¹)_{i_r i_s} for two joints' rows
                 let (a, b) = (self.rows[r], self.rows[s]);
-                self.k[(r, s)] = a.sign * b.sign * self.minv_cols[(a.v_index, s)];
+                let j_col = if a.v_index != NONE {
+                    self.minv_cols[(a.v_index, s)]
+                } else {
+                    self.row_dot(r, self.minv_cols.column(s).as_slice())
+                };
+                self.k[(r, s)] = a.sign * b.sign * j_col;
             }
         }
         // a friction row's impulse may not reverse its mean velocity: |λ| ≤ |ū| / (c K_rr)
@@ -492,7 +620,7 @@ impl JointLimitSolver {
         if !(if boxed { self.solve_boxed(n) } else { self.solve_murty(n) }) {
             self.solve_pgs(n);
         }
-        // Δv = Σ_r M⁻¹ e_{i_r} s_r λ_r
+        // Δv = Σ_r (M⁻¹ J_rᵀ / s_r) s_r λ_r
         self.dv.fill(0.0);
         for (r, row) in self.rows.iter().enumerate() {
             let l = self.lambda[r] * row.sign;

@@ -1132,7 +1132,14 @@ pub(crate) fn describe_robot(out: &mut String, robot: &Robot) {
     let _ = writeln!(
         out,
         "  joint limits: {}; effort limits: {}",
-        if robot.joint_limits_enforced() { format!("enforced on {limited} joints") } else { "off".to_string() },
+        if robot.joint_limits_enforced() {
+            match m.tendons.iter().filter(|t| t.range.is_some()).count() {
+                0 => format!("enforced on {limited} joints"),
+                tendons => format!("enforced on {limited} joints and {tendons} tendons"),
+            }
+        } else {
+            "off".to_string()
+        },
         if clamped > 0 {
             format!("commanded forces clamped to the URDF effort on {clamped} joints")
         } else {

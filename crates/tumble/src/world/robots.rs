@@ -259,6 +259,17 @@ impl Robot {
         self.per_joint(|vi| counts.iter().find(|(k, _)| *k == vi).map_or(0, |(_, n)| *n))
     }
 
+    /// The limited fixed tendons (when limits are enforced), each with its name and the number of
+    /// steps its limit pushed in (the joints' are [`limit_activity`](Self::limit_activity)).
+    pub fn tendon_limit_activity(&self) -> Vec<(&str, u64)> {
+        let Some(solver) = self.sim.joint_limits() else { return Vec::new() };
+        solver
+            .limited_tendons()
+            .zip(solver.tendon_active_steps().iter().copied())
+            .map(|(t, n)| (self.model.tendons[t].name.as_str(), n))
+            .collect()
+    }
+
     fn per_joint(&self, steps_of: impl Fn(usize) -> u64) -> Vec<JointSteps> {
         self.model
             .bodies

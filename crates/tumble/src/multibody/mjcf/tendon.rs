@@ -4,8 +4,11 @@
 //! `L = L₀ + Σ c_i q_i` with `L₀ = Σ c_i ref_i`. Its `springlength` defaults to `-1`: the length at
 //! `qpos_spring` (each joint's `springref`), as MuJoCo's compiler computes it; two values give a
 //! dead band. Read: `name`, `class`, `stiffness`, `damping`, `springlength`, `limited`/`range`
-//! (recorded: [`FixedTendon::range`]). Refused: spatial tendons, tendon `frictionloss` and
-//! `armature`, and a limited tendon (its limit row is not built yet).
+//! ([`FixedTendon::range`], with `limited="auto"` following the compiler's `autolimits`; `lo ≤ hi`
+//! checked): a one-sided limit on `L` when the robot's joint limits are enforced
+//! ([`crate::multibody::JointLimitSolver`], and the contact stage's rows for a held robot). A
+//! tendon's `margin`, `solreflimit`, `solimplimit` are warned (soft parameters: the limit is hard).
+//! Refused: spatial tendons, tendon `frictionloss` and `armature`.
 
 use super::attrs::{all_zero, View};
 use super::build::{unsupported, Reader};
@@ -79,10 +82,8 @@ pub(super) fn read_tendons(
                 if r[0] > r[1] {
                     return Err(v.err("range", MjcfErrorKind::Invalid(format!("lower {} > upper {}", r[0], r[1]))));
                 }
-                return Err(v.err(
-                    if v.get("range").is_some() { "range" } else { "limited" },
-                    unsupported("a limited tendon: the tendon's limit row is not built yet"),
-                ));
+                // MuJoCo compares ten_length (in qpos units) with the range; `length()` includes L₀
+                Some((r[0], r[1]))
             } else {
                 None
             };
