@@ -96,8 +96,10 @@ fn a_tendon_pushed_against_its_limit_rests_at_it_with_the_force_shared_by_its_jo
     // joints are free along it); RK4's acceleration is not constant over the step, which the force
     // phase assumes (c = ½): it settles 3.7e-4 rad off, with a velocity of 2.7e-5 rad/s along the
     // level set that the force phase cancels every step (measured at 1 ms)
-    for (integrator, q_tolerance, v_tolerance) in
-        [("semi_implicit_euler", 1e-6, 1e-9), ("euler", 1e-12, 1e-9), ("rk4", 1e-3, 1e-4)]
+    // RK4's rest point is not asserted (None): it is wrong, 3.7e-4 rad off with 2.7e-5 rad/s left,
+    // a known defect of the force phase under RK4, not a tolerance
+    for (integrator, tolerances) in
+        [("semi_implicit_euler", Some((1e-6, 1e-9))), ("euler", Some((1e-12, 1e-9))), ("rk4", None)]
     {
         let (_dir, mut scene) = load(
             &finger_xml(&format!(r#"range="-0.3 {HI}""#)),
@@ -115,11 +117,13 @@ fn a_tendon_pushed_against_its_limit_rests_at_it_with_the_force_shared_by_its_jo
         eprintln!(
             "{integrator}: L = {l:.12} (hi {HI}), largest L − hi {worst:.2e}; q = {q:?}, expected {want:?} (f = {f:.6})"
         );
-        assert!(v.iter().all(|x| x.abs() < v_tolerance), "{integrator}: still moving: {v:?}");
         assert!((l - HI).abs() < 1e-9, "{integrator}: L = {l}, not at its limit {HI}");
         assert!(worst < 1e-9, "{integrator}: L passed its limit by {worst}");
-        for (got, want) in q.iter().zip(want) {
-            assert!((got - want).abs() < q_tolerance, "{integrator}: q = {q:?}, expected {want}");
+        if let Some((q_tolerance, v_tolerance)) = tolerances {
+            assert!(v.iter().all(|x| x.abs() < v_tolerance), "{integrator}: still moving: {v:?}");
+            for (got, want) in q.iter().zip(want) {
+                assert!((got - want).abs() < q_tolerance, "{integrator}: q = {q:?}, expected {want}");
+            }
         }
         let t = r.limit_activity();
         assert!(t.iter().all(|j| j.steps == 0), "no joint is limited: {t:?}");
@@ -237,9 +241,18 @@ fn a_leg_held_on_the_floor_stands_on_its_tendon_limit() {
     );
     assert!(held > 1900, "resting contact did not hold the leg: {held} steps");
     assert!(active > 1500, "the contact stage's tendon row did not push: {active} steps");
-    // the contact stage's limit rows are soft (the contacts' softness) and a row starting past its
-    // limit is measured from where it is (as the joints'): under the torso's constant weight L
-    // creeps past hi (measured: 0.0509 after 2 s for hi = 0.02), far from the free fold's 1.36
-    assert!(l_max <= 0.1, "L passed its limit: {l_max}");
+    // the rows hold the leg (it drops 0.21 m without them); how far L creeps past hi is the
+    // ignored test below
     assert!(drop < 0.01, "the leg folded: {drop} m");
+}
+
+/// Not reached: the contact stage's limit rows are soft (the contacts' softness) and a row that
+/// starts a step past its limit is measured from where it is (as the joints' rows, so that a joint
+/// that starts outside is not pushed in): under the torso's constant weight `L` creeps past `hi`,
+/// 0.0509 after 2 s for `hi` = 0.02.
+#[test]
+#[ignore = "the contact stage's tendon limit creeps: L = 0.0509 after 2 s for hi = 0.02"]
+fn a_held_leg_keeps_its_tendon_within_its_limit() {
+    let (_, l_max, _, _, _) = leg_run(r#"range="-1 0.02""#, 2.0);
+    assert!(l_max <= 0.02 + 1e-3, "L passed its limit: {l_max}");
 }
