@@ -194,6 +194,16 @@ struct FrictionRow {
     lambda: f64,
 }
 
+impl LimitRow {
+    /// The row of robot `r`'s `k`-th limited coordinate or tendon at distance `gap` from its limit.
+    /// A row that starts the step outside its limit is measured from where it is: it stops further
+    /// motion out and lets the joint come back, it does not push it in (as `multibody::limits`
+    /// does without contact).
+    fn new(robot: usize, limited: usize, gap: f64, off: usize, softness: Softness) -> Self {
+        LimitRow { robot, limited, gap: gap.max(0.0), off, normal_mass: 0.0, softness, lambda: 0.0 }
+    }
+}
+
 /// A row of the previous step and its impulses (warm starting).
 #[derive(Debug, Clone, Copy)]
 struct Previous {
@@ -471,18 +481,7 @@ impl LinkStage {
                     let solve = &mut self.robots[r];
                     let off = solve.add_rows(1, dof_chain(view.model, vi));
                     solve.jac[off * solve.nv + vi] = sign;
-                    self.limit_rows.push(LimitRow {
-                        robot: r,
-                        limited: k,
-                        // a joint that starts the step outside its limit is measured from where it
-                        // is: the row stops further motion out and lets it come back, it does not
-                        // push it in (as `multibody::limits` does without contact)
-                        gap: gap.max(0.0),
-                        off,
-                        normal_mass: 0.0,
-                        softness: soft,
-                        lambda: 0.0,
-                    });
+                    self.limit_rows.push(LimitRow::new(r, k, gap, off, soft));
                 }
             }
             // the limited fixed tendons: rows J = s J_t on `L = L₀ + Σ c_k q_k`, as the joints'
@@ -500,15 +499,7 @@ impl LinkStage {
                     for term in &tendon.terms {
                         solve.jac[off * solve.nv + term.v_index] = sign * term.coef;
                     }
-                    self.limit_rows.push(LimitRow {
-                        robot: r,
-                        limited: k,
-                        gap: gap.max(0.0),
-                        off,
-                        normal_mass: 0.0,
-                        softness: soft,
-                        lambda: 0.0,
-                    });
+                    self.limit_rows.push(LimitRow::new(r, k, gap, off, soft));
                 }
             }
         }
