@@ -796,14 +796,7 @@ impl LinkStage {
                 (0.0, 1.0, 0.0)
             };
             let new = (row.lambda - row.normal_mass * mass_scale * (u + bias) - impulse_scale * row.lambda).max(0.0);
-            let d = new - row.lambda;
-            row.lambda = new;
-            if d != 0.0 {
-                solve.impulse(row.off, d);
-            }
-            if new != 0.0 {
-                solve.touched = true;
-            }
+            solve.accumulate(row.off, &mut row.lambda, new);
         }
         // the friction-loss rows: λ ← clamp(λ − u / G_ii, −F h, F h), u = v_i, target u⁺ = 0
         // (MuJoCo, *Computation*: friction loss; the box clamp of projected Gauss–Seidel, Erleben
@@ -813,14 +806,7 @@ impl LinkStage {
             let solve = &mut self.robots[row.robot];
             let bound = row.friction_loss * h;
             let new = (row.lambda - row.normal_mass * solve.u[row.off]).max(-bound).min(bound);
-            let d = new - row.lambda;
-            row.lambda = new;
-            if d != 0.0 {
-                solve.impulse(row.off, d);
-            }
-            if new != 0.0 {
-                solve.touched = true;
-            }
+            solve.accumulate(row.off, &mut row.lambda, new);
         }
     }
 
@@ -1088,6 +1074,21 @@ impl RobotSolve {
         self.t_velocity = 0.0;
         self.t_moves = 0.0;
         self.t_moved = 0.0;
+    }
+
+    /// A one-row solve's step: the row's accumulated impulse `lambda` becomes `new`, the
+    /// difference is applied on row `k` ([`impulse`](Self::impulse)), and a non-zero impulse marks
+    /// the robot as touched.
+    #[inline]
+    fn accumulate(&mut self, k: usize, lambda: &mut f64, new: f64) {
+        let d = new - *lambda;
+        *lambda = new;
+        if d != 0.0 {
+            self.impulse(k, d);
+        }
+        if new != 0.0 {
+            self.touched = true;
+        }
     }
 
     /// An impulse `x` on row `k`: `P_k += x`, `u += G_{·k} x`.
