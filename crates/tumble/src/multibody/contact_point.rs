@@ -271,24 +271,16 @@ fn delassus_in(
             let block_j = &scratch[bj * nv * L..(bj + 1) * nv * L];
             // sums[c][r] = G_{first_i + r, first_j + c} = Σ_k (D^{-1/2} Y)_{k, i+r} (D^{-1/2} Y)_{k, j+c}
             let mut sums = [[0.0; L]; L];
-            let mut add = |k: usize| {
-                let (a, b) = (&block_i[k * L..(k + 1) * L], &block_j[k * L..(k + 1) * L]);
-                for c in 0..L {
-                    for r in 0..L {
-                        sums[c][r] += a[r] * b[c];
-                    }
-                }
-            };
             if path_i && path_j {
                 // c_i ∩ c_j: the common tail of the two chains
                 let common = chain_i.iter().rev().zip(chain_j.iter().rev()).take_while(|(a, b)| a == b).count();
                 for &k in &chain_i[chain_i.len() - common..] {
-                    add(k);
+                    outer_add(&mut sums, &block_i[k * L..(k + 1) * L], &block_j[k * L..(k + 1) * L]);
                 }
             } else {
                 // a union of paths (a tendon's row): the coordinates of c_i in c_j
                 for &k in chain_i.iter().filter(|k| chain_j.contains(k)) {
-                    add(k);
+                    outer_add(&mut sums, &block_i[k * L..(k + 1) * L], &block_j[k * L..(k + 1) * L]);
                 }
             }
             for (c, column) in sums.iter().enumerate().take(count_j) {
@@ -297,6 +289,17 @@ fn delassus_in(
                     g[(first_j + c) * n + first_i + r] = g_rc;
                 }
             }
+        }
+    }
+}
+
+/// `sums[c][r] += a[r] b[c]`: one coordinate's term of a block of `G`. Inlined into
+/// [`delassus_in`] (and so compiled for AVX2 with it), where a closure was not.
+#[inline(always)]
+fn outer_add(sums: &mut [[f64; BLOCK_LANES]; BLOCK_LANES], a: &[f64], b: &[f64]) {
+    for c in 0..BLOCK_LANES {
+        for r in 0..BLOCK_LANES {
+            sums[c][r] += a[r] * b[c];
         }
     }
 }
