@@ -113,7 +113,8 @@ fn lock(model: &MultibodyModel, entries: &[String]) -> Result<MultibodyModel, Fa
     })
 }
 
-/// The layout as JSON: movable joints with their coordinates, fixed joints with `null` indices.
+/// The layout as JSON: movable joints with their coordinates, fixed joints with `null` indices,
+/// and the fixed tendons (`L = offset + Σ coef q[q_index]`) when there are any.
 pub fn layout(model: &MultibodyModel) -> Value {
     let mut joints = Vec::new();
     for frame in &model.frames {
@@ -138,6 +139,29 @@ pub fn layout(model: &MultibodyModel) -> Value {
     if !model.locked.is_empty() {
         let locked: Vec<Value> = model.locked.iter().map(|(name, q)| json!({"name": name, "q": q})).collect();
         layout["locked"] = Value::Array(locked);
+    }
+    if !model.tendons.is_empty() {
+        // L = offset + Σ coef q[q_index]
+        let tendons: Vec<Value> = model
+            .tendons
+            .iter()
+            .map(|t| {
+                let terms: Vec<Value> = t
+                    .terms
+                    .iter()
+                    .map(|term| {
+                        json!({"joint": model.bodies[term.body].joint.name, "q_index": term.q_index,
+                               "v_index": term.v_index, "coef": term.coef})
+                    })
+                    .collect();
+                json!({
+                    "name": t.name, "offset": t.offset, "terms": terms, "stiffness": t.stiffness,
+                    "spring_length": [t.spring_length.0, t.spring_length.1], "damping": t.damping,
+                    "range": t.range.map(|(lo, hi)| [lo, hi]),
+                })
+            })
+            .collect();
+        layout["tendons"] = Value::Array(tendons);
     }
     layout
 }
@@ -206,6 +230,9 @@ fn table(model: &MultibodyModel, layout: &Value) -> String {
         }
         if t.damping != 0.0 {
             acts.push(format!("damping {}", t.damping));
+        }
+        if let Some((lo, hi)) = t.range {
+            acts.push(format!("limited to {lo}..{hi}"));
         }
         text.push_str(&format!(
             "tendon {}: L = {} + {}{}\n",

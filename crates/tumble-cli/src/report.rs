@@ -113,6 +113,11 @@ pub fn table(
         if !r.joint_limits_active.is_empty() {
             row("  at a joint limit", steps(&r.joint_limits_active));
         }
+        if !r.tendon_limits_active.is_empty() {
+            let list: Vec<String> =
+                r.tendon_limits_active.iter().map(|c| format!("{} ({} steps)", c.tendon, c.steps)).collect();
+            row("  at a tendon limit", list.join(", "));
+        }
     }
     row("integrator", format!("{}, dt = {} s", s.integrator, s.dt));
     row("steps", format!("{}{stopped}", s.steps));
@@ -132,7 +137,7 @@ pub fn table(
             momentum = note(&momentum, "the fixed bodies' contact impulses change it");
         }
     }
-    if s.robots.iter().any(|r| !r.joint_limits_active.is_empty()) {
+    if s.robots.iter().any(|r| !r.joint_limits_active.is_empty() || !r.tendon_limits_active.is_empty()) {
         // a strike on a joint limit is perfectly inelastic (docs/multibody.md, joint limits)
         energy = note(&energy, "joint-limit strikes took energy out");
     }

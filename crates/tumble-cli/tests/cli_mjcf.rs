@@ -205,3 +205,104 @@ fn run_starts_an_mjcf_world_from_a_keyframe() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("applies to an MJCF file") && err.contains("keyframe = \"spin\""), "{err}");
 }
+
+/// `tumble model --json` lists the fixed tendons, `L = offset + Σ coef q`: from the JSON alone,
+/// MuJoCo's tendon lengths at the fixture's states (the joints have `ref`, so tumble's `q` is
+/// MuJoCo's `qpos − qpos0`, and the offset carries `Σ coef ref`).
+#[test]
+fn model_json_lists_the_fixed_tendons_with_mujocos_lengths() {
+    let model = mjcf().join("synthetic/tendons.xml");
+    let (code, out, err) = run(&["model", model.to_str().unwrap(), "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let layout: Value = serde_json::from_str(&out).unwrap();
+    let tendons = layout["tendons"].as_array().unwrap();
+    let names: Vec<&str> = tendons.iter().map(|t| t["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["flex", "band", "drive"]);
+    assert_eq!(tendons[1]["stiffness"].as_f64(), Some(4.0));
+    let fixture: Value = serde_json::from_str(&fs::read_to_string(mjcf().join("tendons.json")).unwrap()).unwrap();
+    let qpos0 = numbers(&fixture["qpos0"]);
+    let mut worst: f64 = 0.0;
+    for state in fixture["states"].as_array().unwrap() {
+        let qpos = numbers(&state["qpos"]);
+        for (t, &expected) in tendons.iter().zip(&numbers(&state["ten_length"])) {
+            let length = t["offset"].as_f64().unwrap()
+                + t["terms"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|term| {
+                        let i = term["q_index"].as_u64().unwrap() as usize;
+                        term["coef"].as_f64().unwrap() * (qpos[i] - qpos0[i])
+                    })
+                    .sum::<f64>();
+            worst = worst.max((length - expected).abs());
+        }
+    }
+    assert!(worst <= 1e-14, "tendon lengths off by {worst:e}");
+    // the table says it too
+    let (code, out, _) = run(&["model", model.to_str().unwrap()]);
+    assert_eq!(code, Some(0));
+    assert!(out.contains("tendon band: L = "), "{out}");
+}
+
+/// A fixed tendon that starts outside its range is a warning naming the robot, the tendon, its
+/// length and the range, as a joint's is (the run goes on).
+#[test]
+fn a_tendon_starting_outside_its_range_is_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = r#"<mujoco>
+  <worldbody>
+    <body name="upper">
+      <joint name="a" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.02" mass="1"/>
+      <body name="lower" pos="0 0 -0.3">
+        <joint name="b" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.02" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="band" range="-0.3 0.3" limited="true">
+      <joint joint="a" coef="1"/>
+      <joint joint="b" coef="1"/>
+    </fixed>
+  </tendon>
+</mujoco>
+"#;
+    fs::write(dir.path().join("f.xml"), xml).unwrap();
+    let scene = |q: &str| {
+        format!(
+            "version = 1\n[world]\nduration = 0.01\n[[robot]]\nname = \"finger\"\nmjcf = \"f.xml\"\nq = {{ {q} }}\n"
+        )
+    };
+    fs::write(dir.path().join("s.toml"), scene("a = 0.5, b = 0.5")).unwrap();
+    let output = tumble(dir.path()).args(["run", "s.toml", "--out", "o.csv"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("s.toml:")
+            && stderr.contains("robot `finger`: tendon `band` starts at length 1, above its upper limit [-0.3, 0.3]"),
+        "{stderr}"
+    );
+    // inside the range: no warning
+    fs::write(dir.path().join("s.toml"), scene("a = 0.1, b = -0.2")).unwrap();
+    let output = tumble(dir.path()).args(["run", "s.toml", "--out", "o.csv"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("starts at"), "{stderr}");
+    // without gravity, a constant torque on `b` drives the tendon onto its upper limit: the report
+    // and the summary count the steps the tendon's limit pushed
+    let text = "version = 1\n[world]\ndt = 0.001\nduration = 0.5\ngravity = [0, 0, 0]\n[[robot]]\nname = \"finger\"\n\
+                mjcf = \"f.xml\"\ntorque = { b = 0.2 }\n";
+    fs::write(dir.path().join("s.toml"), text).unwrap();
+    let output = tumble(dir.path()).args(["run", "s.toml", "--out", "o.csv", "--summary", "s.json"]).output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("at a tendon limit") && stdout.contains("band ("), "{stdout}");
+    let summary: Value = serde_json::from_str(&fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    let active = summary["robots"][0]["tendon_limits_active"].as_array().unwrap();
+    assert_eq!(active.len(), 1, "{summary}");
+    assert_eq!(active[0]["tendon"], "band");
+    let steps = active[0]["steps"].as_u64().unwrap();
+    assert!(steps > 0 && steps <= 500, "{summary}");
+}

@@ -216,8 +216,8 @@ impl RobotReader<'_, '_> {
         })
     }
 
-    /// A warning for each joint that starts outside its position limits: the limit then stops it
-    /// from moving further out and lets it come back, without pushing it in.
+    /// A warning for each joint, and each fixed tendon, that starts outside its position limits: the
+    /// limit then stops it from moving further out and lets it come back, without pushing it in.
     fn warn_outside_limits(&mut self, doc: &RobotDoc, model: &MultibodyModel, q: &[f64]) {
         for b in &model.bodies {
             let j = &b.joint;
@@ -249,6 +249,28 @@ impl RobotReader<'_, '_> {
                 num(upper)
             );
             self.warnings.push(self.src.warning(span, &key, &text));
+        }
+        // a fixed tendon's limit is held alike: one that starts outside its range stays out
+        for t in &model.tendons {
+            let Some((lower, upper)) = t.range else { continue };
+            let length = t.length(q);
+            let side = if length < lower {
+                "below its lower limit"
+            } else if length > upper {
+                "above its upper limit"
+            } else {
+                continue;
+            };
+            let robot = doc.name.as_ref().map_or("", |n| n.value.as_str());
+            let text = format!(
+                "robot `{robot}`: tendon `{}` starts at length {}, {side} [{}, {}]: the limit stops it from moving further out \
+                 and lets it come back (it is not pushed in); `joint_limits = false` ignores the limits",
+                t.name,
+                num(length),
+                num(lower),
+                num(upper)
+            );
+            self.warnings.push(self.src.warning(self.span, self.path, &text));
         }
     }
 

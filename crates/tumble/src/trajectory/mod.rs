@@ -38,7 +38,7 @@ pub use contacts::ContactWriter;
 pub use monitor::{relative_error, EnergyRise, FlipCounter, Invariants, Monitor, ENERGY_RISE};
 pub use read::{read, BodySample, Frame, ReadError, ReadOptions, Trajectory, Truncation};
 pub use summary::{AngularMomentumSummary, EnergySummary, FlipSummary, LinearMomentumSummary, StopReason, Summary};
-pub use summary::{JointStepsSummary, ProfileSummary, RobotSummary};
+pub use summary::{JointStepsSummary, ProfileSummary, RobotSummary, TendonStepsSummary};
 pub use writer::{TrajectoryWriter, CSV_HEADER};
 
 use std::path::Path;

@@ -208,6 +208,16 @@ pub struct RobotSummary {
     /// Joints whose position limit pushed, and in how many steps.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joint_limits_active: Vec<JointStepsSummary>,
+    /// Fixed tendons (MJCF) whose length limit pushed, and in how many steps.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tendon_limits_active: Vec<TendonStepsSummary>,
+}
+
+/// A fixed tendon and a number of steps.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TendonStepsSummary {
+    pub tendon: String,
+    pub steps: u64,
 }
 
 /// A joint and a number of steps.
@@ -293,6 +303,12 @@ impl Summary {
                     energy: r.energy(),
                     effort_clamped: joint_steps(r.effort_clamps()),
                     joint_limits_active: joint_steps(r.limit_activity()),
+                    tendon_limits_active: r
+                        .tendon_limit_activity()
+                        .into_iter()
+                        .filter(|&(_, steps)| steps > 0)
+                        .map(|(tendon, steps)| TendonStepsSummary { tendon: tendon.to_string(), steps })
+                        .collect(),
                 })
                 .collect(),
             contact: ContactSummary {
