@@ -195,6 +195,8 @@ pub struct ContactStage {
     /// The sleep epoch in which the contacts were all kept ones of sleeping pairs (the narrow
     /// phase found none): while it holds, the step has nothing to do.
     steady: Option<u64>,
+    /// The last step's contact list is the one of the step before, pair for pair (`steady`).
+    kept: bool,
     /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
     pub links: links::LinkStage,
     /// Energy dissipated so far.
@@ -253,6 +255,12 @@ impl ContactStage {
         &self.contacts
     }
 
+    /// Whether the last step's [`contacts`](Self::contacts) are those of the step before, pair for
+    /// pair: the kept contacts of sleeping islands, with nothing awake touching anything.
+    pub fn contacts_kept(&self) -> bool {
+        self.kept
+    }
+
     /// The impulse on body `b` of each of [`contacts`](Self::contacts) over the last step (N·s,
     /// world frame): its collision impulse, if it was a collision, plus the resting-contact
     /// impulses of every substep. Body `a` received the opposite. Over `dt` it is the contact's
@@ -293,6 +301,7 @@ impl ContactStage {
         self.energy_before.clear();
         self.energy_before.resize(bodies.len(), 0.0);
         self.gravity = gravity;
+        self.kept = false;
         if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
             self.contacts.clear();
             self.impulses.clear();
@@ -333,6 +342,7 @@ impl ContactStage {
         // contacts, their impulses and the warm starts are the last step's
         let epoch = self.sleep.epoch();
         let steady = fresh.is_empty() && self.steady == Some(epoch);
+        self.kept = steady;
         if !steady {
             self.merge_frozen(bodies, &fresh);
         }

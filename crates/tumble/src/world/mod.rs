@@ -399,10 +399,13 @@ impl World {
         }
     }
 
-    /// Records the step of each body's first contact (the contacts the stage just found).
+    /// Records the step of each body's first contact (the contacts the stage just found; nothing to
+    /// do when they are the last step's).
     fn note_first_contacts(&mut self) {
         if self.first_contact.len() != self.bodies.len() {
             self.first_contact.resize(self.bodies.len(), None);
+        } else if self.contact.contacts_kept() {
+            return;
         }
         for c in self.contact.contacts() {
             self.first_contact[c.a].get_or_insert(self.steps);
