@@ -197,6 +197,8 @@ pub struct ContactStage {
     steady: Option<u64>,
     /// The last step's contact list is the one of the step before, pair for pair (`steady`).
     kept: bool,
+    /// The last step solved its contacts (`shifts`, `held` and `energy_before` are this step's).
+    solved: bool,
     /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
     pub links: links::LinkStage,
     /// Energy dissipated so far.
@@ -293,15 +295,10 @@ impl ContactStage {
         dt: f64,
         lead: f64,
     ) {
-        self.shifts.clear();
-        self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
-        self.held.clear();
-        self.held.resize(bodies.len(), None);
         self.in_active.resize(bodies.len(), false);
-        self.energy_before.clear();
-        self.energy_before.resize(bodies.len(), 0.0);
         self.gravity = gravity;
         self.kept = false;
+        self.solved = false;
         if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
             self.contacts.clear();
             self.impulses.clear();
@@ -383,6 +380,14 @@ impl ContactStage {
             return;
         }
         let mut clock = crate::profile::Clock::start(self.profile.is_some());
+        // the per-body results of a solve, applied by `finish` (a step that returns above has none)
+        self.solved = true;
+        self.shifts.clear();
+        self.shifts.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
+        self.held.clear();
+        self.held.resize(bodies.len(), None);
+        self.energy_before.clear();
+        self.energy_before.resize(bodies.len(), 0.0);
         self.load_bodies(bodies, gravity);
         self.impacts(bodies, settings, dt, lead);
         let (soft, soft_fixed) = softness(settings, dt);
@@ -469,6 +474,9 @@ impl ContactStage {
     /// After the integration: puts the bodies held by resting contacts where the substeps moved
     /// them, and shifts the bodies by the collisions' corrections.
     pub fn finish(&mut self, bodies: &mut [RigidBody]) {
+        if !self.solved {
+            return;
+        }
         for (i, ((body, &(dx, dtheta)), held)) in bodies.iter_mut().zip(&self.shifts).zip(&self.held).enumerate() {
             if body.fixed {
                 continue;
