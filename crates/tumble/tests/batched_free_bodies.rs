@@ -317,7 +317,7 @@ fn a_divergence_before_a_body_with_a_shape_is_named_after_the_contact_stage() {
         let mut bodies = with_ground_and_ball(bodies, ball);
         bodies[ball].shape = Some(Shape::Sphere { radius: 0.5 });
         let mut world = World::new(config, bodies);
-        let before = world.bodies.clone();
+        let before = world.bodies.to_vec();
         let err = world.step().unwrap_err().diverged().cloned().unwrap();
         assert_eq!(err.body, "body0", "{err}");
         assert!(err.quantity.contains("velocity"), "{err}");
@@ -392,7 +392,7 @@ fn a_diverging_body_in_a_group_is_named_and_the_step_undone() {
             bodies[bad + 1].state.position = DVec3::new(f64::NAN, 0.0, 0.0);
         }
         let mut world = World::new(config, bodies);
-        let before = world.bodies.clone();
+        let before = world.bodies.to_vec();
         let err = world.step().unwrap_err().diverged().cloned().unwrap();
         assert_eq!(err.body, format!("body{bad}"), "{err}");
         assert!(err.quantity.contains("velocity"), "{err}");

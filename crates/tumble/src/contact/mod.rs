@@ -289,6 +289,7 @@ impl ContactStage {
     pub fn resolve(
         &mut self,
         bodies: &mut [RigidBody],
+        bodies_lent: bool,
         robots: &dyn links::RobotViews,
         settings: &ContactSettings,
         gravity: DVec3,
@@ -311,7 +312,7 @@ impl ContactStage {
         }
         let budget = settings.pair_budget(bodies.len());
         self.colliders_mut(bodies).set_pair_budget(usize::try_from(budget).unwrap_or(usize::MAX));
-        self.fall_asleep(bodies, settings, gravity, dt);
+        self.fall_asleep(bodies, bodies_lent, settings, gravity, dt);
         let mut fresh = std::mem::take(&mut self.fresh);
         let mut profile = self.profile.take();
         let asleep = self.sleep.asleep();
@@ -411,13 +412,20 @@ impl ContactStage {
 
     /// At the start of the step: wakes the islands the caller changed, then puts to sleep the
     /// islands that have been still long enough, from the last step's contacts (module [`sleep`]).
-    fn fall_asleep(&mut self, bodies: &mut [RigidBody], settings: &ContactSettings, gravity: DVec3, dt: f64) {
+    fn fall_asleep(
+        &mut self,
+        bodies: &mut [RigidBody],
+        bodies_lent: bool,
+        settings: &ContactSettings,
+        gravity: DVec3,
+        dt: f64,
+    ) {
         self.sleep.resize(bodies.len());
         if !settings.sleep {
             self.sleep.wake_all();
             return;
         }
-        self.sleep.wake_changed(bodies, gravity);
+        self.sleep.wake_changed(bodies, bodies_lent, gravity);
         let colliders = self.colliders.as_ref().expect("built by the caller");
         let lost = self.sleep.update(
             bodies,

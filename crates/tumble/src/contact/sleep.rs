@@ -221,13 +221,18 @@ impl Sleep {
     }
 
     /// Before the narrow phase: wakes the islands whose bodies (or the fixed bodies under them)
-    /// the caller changed since they fell asleep, and all of them if gravity changed.
-    pub(super) fn wake_changed(&mut self, bodies: &[RigidBody], gravity: DVec3) {
+    /// the caller changed since they fell asleep, and all of them if gravity changed. `lent`:
+    /// whether the caller borrowed the bodies mutably since the last step ([`crate::world::Bodies`]);
+    /// if not, none can have changed and they are not read.
+    pub(super) fn wake_changed(&mut self, bodies: &[RigidBody], lent: bool, gravity: DVec3) {
         if self.count == 0 {
             return;
         }
         if gravity != self.gravity {
             self.wake_all();
+            return;
+        }
+        if !lent {
             return;
         }
         // a fixed body that moved wakes every island resting on it

@@ -7,6 +7,7 @@ use crate::integrate::{advance_body, BodyRhs, Integrator, Tolerances};
 use crate::math::DVec3;
 
 mod batched;
+mod bodies;
 mod hash;
 mod robots;
 mod state;
@@ -14,6 +15,7 @@ mod threads;
 pub use crate::math::StateHasher;
 pub(crate) use crate::profile::Clock;
 pub use crate::profile::{PerStep, Profile};
+pub use bodies::Bodies;
 pub use robots::{robot_method, ActuatorDrive, CtrlError, DriveTarget, JointSteps, LinkState, Robot};
 pub use state::{StateError, BODY_STATE_LEN, STATE_QUAT_TOLERANCE};
 
@@ -183,8 +185,9 @@ impl StepError {
 pub struct World {
     /// Settings (units in [`WorldConfig`]).
     pub config: WorldConfig,
-    /// The bodies, in scene order.
-    pub bodies: Vec<RigidBody>,
+    /// The bodies, in scene order: a `Vec<RigidBody>` to read and write (see [`Bodies`]: it notes
+    /// a mutable borrow, so that the step checks sleeping bodies only when one may have changed).
+    pub bodies: Bodies,
     steps: u64,
     /// Per-body scratch of the step, in body order.
     scratch: Vec<BodyScratch>,
@@ -226,7 +229,7 @@ impl World {
     pub fn new(config: WorldConfig, bodies: Vec<RigidBody>) -> Self {
         Self {
             config,
-            bodies,
+            bodies: bodies.into(),
             steps: 0,
             scratch: Vec::new(),
             robots: Vec::new(),
@@ -302,8 +305,11 @@ impl World {
                 if self.bodies.len() >= threads::MIN_BODIES { self.threads.pool(self.config.threads) } else { None };
             self.contact.colliders_mut(&self.bodies).set_thread_pool(pool, min_pairs);
             let lead = self.config.integrator.position_lead();
+            // read before the step's own borrows mark the list
+            let lent = self.bodies.lent();
             self.contact.resolve(
                 &mut self.bodies,
+                lent,
                 &self.robots,
                 &self.config.contact,
                 self.config.gravity,
@@ -334,6 +340,9 @@ impl World {
         }
         if contacts {
             self.contact.finish(&mut self.bodies);
+            // the sleeping bodies were checked against the caller's changes (if any) in this step;
+            // a step without the contact stage leaves the mark for the next that has it
+            self.bodies.step_ended();
         }
         if let Some(p) = &mut self.profile {
             let integration = clock.lap();
