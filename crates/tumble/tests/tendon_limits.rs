@@ -191,12 +191,21 @@ fn a_limited_tendon_never_leaves_its_range_in_a_free_swing_and_its_strikes_take_
 /// the floor) without friction loss and with its hip rigid: the torso's weight bends the knee and
 /// the torso sinks, unless a tendon `L = knee − lift` (`tendon_extra`) holds them.
 fn leg(tendon_extra: &str) -> String {
+    leg_with("", tendon_extra)
+}
+
+/// [`leg`] with `knee_extra` (attributes of the knee joint, e.g. its range) as well.
+fn leg_with(knee_extra: &str, tendon_extra: &str) -> String {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/leg_friction.xml");
     let text = std::fs::read_to_string(path).unwrap();
     let default = r#"<joint type="hinge" axis="0 1 0" frictionloss="10"/>"#;
     assert!(text.contains(default));
     assert!(text.contains(r#"<joint name="hip"/>"#));
-    text.replace(default, r#"<joint type="hinge" axis="0 1 0" frictionloss="0"/>"#).replace(r#"<joint name="hip"/>"#, "").replace(
+    assert!(text.contains(r#"<joint name="knee"/>"#));
+    text.replace(default, r#"<joint type="hinge" axis="0 1 0" frictionloss="0"/>"#)
+        .replace(r#"<joint name="hip"/>"#, "")
+        .replace(r#"<joint name="knee"/>"#, &format!(r#"<joint name="knee" {knee_extra}/>"#))
+        .replace(
         "</mujoco>",
         &format!(
             r#"<tendon><fixed name="t" {tendon_extra}><joint joint="knee" coef="1"/><joint joint="lift" coef="-1"/></fixed></tendon>
@@ -255,4 +264,38 @@ fn a_leg_held_on_the_floor_stands_on_its_tendon_limit() {
 fn a_held_leg_keeps_its_tendon_within_its_limit() {
     let (_, l_max, _, _, _) = leg_run(r#"range="-1 0.02""#, 2.0);
     assert!(l_max <= 0.02 + 1e-3, "L passed its limit: {l_max}");
+}
+
+/// The leg with its knee limited (`knee_extra`, its range) and no tendon, on the floor for
+/// `seconds`: the torso's drop (m), the largest knee angle and the last (rad), the number of steps
+/// resting contact held it, and the knee limit's activity.
+fn knee_run(knee_extra: &str, seconds: f64) -> (f64, f64, f64, usize, u64) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("leg.xml");
+    std::fs::write(&path, leg_with(knee_extra, "")).unwrap();
+    let mut scene = scene::load_mjcf_world(&path).unwrap_or_else(|e| panic!("{e}"));
+    let world = &mut scene.world;
+    let knee = world.robots[0].model.bodies.iter().find(|b| b.joint.name == "knee").unwrap().joint.q_index;
+    let z0 = world.robots[0].q()[0];
+    let (mut q_max, mut held) = (f64::NEG_INFINITY, 0);
+    for _ in 0..((seconds / world.config.dt).round() as usize) {
+        world.step().unwrap();
+        q_max = q_max.max(world.robots[0].q()[knee]);
+        held += usize::from(world.contacts().links.active().count() > 0);
+    }
+    let r = &world.robots[0];
+    let steps = r.limit_activity();
+    let active = steps.iter().find(|j| j.joint == "knee").map_or(0, |j| j.steps);
+    (z0 - r.q()[0], q_max, r.q()[knee], held, active)
+}
+
+#[test]
+fn a_held_leg_keeps_its_knee_within_its_limit() {
+    let (drop, q_max, q_end, held, active) = knee_run(r#"range="-1 0.02""#, 2.0);
+    eprintln!(
+        "knee range [-1, 0.02]: the torso dropped {drop:.3e} m; knee up to {q_max:.6}, ends at {q_end:.6}; held in \
+         {held} steps, the knee's limit pushed in {active}"
+    );
+    assert!(held > 1900, "resting contact did not hold the leg: {held} steps");
+    assert!(active > 1500, "the contact stage's knee row did not push: {active} steps");
 }
