@@ -266,16 +266,18 @@ fn a_held_leg_keeps_its_tendon_within_its_limit() {
     assert!(l_max <= 0.02 + 1e-3, "L passed its limit: {l_max}");
 }
 
-/// The leg with its knee limited (`knee_extra`, its range) and no tendon, on the floor for
-/// `seconds`: the torso's drop (m), the largest knee angle and the last (rad), the number of steps
-/// resting contact held it, and the knee limit's activity.
-fn knee_run(knee_extra: &str, seconds: f64) -> (f64, f64, f64, usize, u64) {
+/// The leg with its knee limited (`knee_extra`, its range in degrees, MJCF's default unit) and no
+/// tendon, on the floor for `seconds`: the torso's drop (m), the knee's upper limit (rad), the
+/// largest knee angle and the last (rad), the number of steps resting contact held it, and the
+/// knee limit's activity.
+fn knee_run(knee_extra: &str, seconds: f64) -> (f64, f64, f64, f64, usize, u64) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("leg.xml");
     std::fs::write(&path, leg_with(knee_extra, "")).unwrap();
     let mut scene = scene::load_mjcf_world(&path).unwrap_or_else(|e| panic!("{e}"));
     let world = &mut scene.world;
-    let knee = world.robots[0].model.bodies.iter().find(|b| b.joint.name == "knee").unwrap().joint.q_index;
+    let joint = &world.robots[0].model.bodies.iter().find(|b| b.joint.name == "knee").unwrap().joint;
+    let (knee, hi) = (joint.q_index, joint.limits.position.unwrap().1);
     let z0 = world.robots[0].q()[0];
     let (mut q_max, mut held) = (f64::NEG_INFINITY, 0);
     for _ in 0..((seconds / world.config.dt).round() as usize) {
@@ -284,18 +286,21 @@ fn knee_run(knee_extra: &str, seconds: f64) -> (f64, f64, f64, usize, u64) {
         held += usize::from(world.contacts().links.active().count() > 0);
     }
     let r = &world.robots[0];
-    let steps = r.limit_activity();
-    let active = steps.iter().find(|j| j.joint == "knee").map_or(0, |j| j.steps);
-    (z0 - r.q()[0], q_max, r.q()[knee], held, active)
+    let active = r.limit_activity().iter().find(|j| j.joint == "knee").map_or(0, |j| j.steps);
+    (z0 - r.q()[0], hi, q_max, r.q()[knee], held, active)
 }
 
 #[test]
 fn a_held_leg_keeps_its_knee_within_its_limit() {
-    let (drop, q_max, q_end, held, active) = knee_run(r#"range="-1 0.02""#, 2.0);
+    // the tendon test's twin: the knee itself limited at hi = 0.02 rad (the range is in degrees)
+    let range = format!(r#"range="-60 {}""#, 0.02_f64.to_degrees());
+    let (drop, hi, q_max, q_end, held, active) = knee_run(&range, 2.0);
     eprintln!(
-        "knee range [-1, 0.02]: the torso dropped {drop:.3e} m; knee up to {q_max:.6}, ends at {q_end:.6}; held in \
-         {held} steps, the knee's limit pushed in {active}"
+        "knee range [-60°, {hi} rad]: the torso dropped {drop:.3e} m; knee up to {q_max:.6} ({:.2e} past), ends at \
+         {q_end:.6}; held in {held} steps, the knee's limit pushed in {active}",
+        q_max - hi
     );
+    assert!((hi - 0.02).abs() < 1e-15, "{hi}");
     assert!(held > 1900, "resting contact did not hold the leg: {held} steps");
     assert!(active > 1500, "the contact stage's knee row did not push: {active} steps");
 }
