@@ -53,7 +53,11 @@
 //! limited fixed tendons, rows `J = ±J_t` on the length `L = L₀ + Σ c_k q_k` (`s c_k` on each
 //! term's coordinate; the row's chain is the union of the terms' paths to the root, which
 //! [`delassus`](crate::multibody::contact_point) handles as a chain that is not a path), with the
-//! gap `L − lo` or `hi − L`; and so is its joints' dry friction
+//! gap `L − lo` or `hi − L`, each measured from its floor
+//! ([`crate::multibody::JointLimitSolver::floor`]: 0 for a quantity that started inside its range,
+//! so a soft row's overshoot is driven back by the position bias as a contact point's overlap is,
+//! instead of creeping under a steady load; lower for one that started outside, which is not
+//! pushed in); and so is its joints' dry friction
 //! (MuJoCo documentation, *Computation*: friction loss): per velocity coordinate `k` of a joint with
 //! friction loss `F`, a row `J = e_kᵀ` with
 //!

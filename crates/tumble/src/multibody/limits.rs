@@ -61,7 +61,11 @@
 //!
 //! A joint that starts outside its limit (`g₀ < 0`) is measured from where it is: the rows use the
 //! gap `g − min(0, g₀)` in phase 2 and the target `0` in phase 1, so the limit stops further motion
-//! outward and lets the joint come back, without pushing it in (no energy is injected).
+//! outward and lets the joint come back, without pushing it in (no energy is injected). The contact
+//! stage's rows (a robot held by resting contact: `contact::links`) are soft, so a step may leave
+//! a quantity past its limit; they measure the gap from a floor kept across steps instead
+//! ([`JointLimitSolver::floor`]), so that such an overshoot is driven back rather than kept, while
+//! a quantity that started outside is still not pushed in.
 //!
 //! **Friction loss** (MuJoCo documentation, *Computation*: the "friction loss" rows of the
 //! constraint solver; MJCF joint `frictionloss`): a joint with dry friction `F > 0` has one row per
