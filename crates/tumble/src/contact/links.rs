@@ -53,7 +53,11 @@
 //! limited fixed tendons, rows `J = ±J_t` on the length `L = L₀ + Σ c_k q_k` (`s c_k` on each
 //! term's coordinate; the row's chain is the union of the terms' paths to the root, which
 //! [`delassus`](crate::multibody::contact_point) handles as a chain that is not a path), with the
-//! gap `L − lo` or `hi − L`; and so is its joints' dry friction
+//! gap `L − lo` or `hi − L`, each measured from its floor
+//! ([`crate::multibody::JointLimitSolver::floor`]: 0 for a quantity that started inside its range,
+//! so a soft row's overshoot is driven back by the position bias as a contact point's overlap is,
+//! instead of creeping under a steady load; lower for one that started outside, which is not
+//! pushed in); and so is its joints' dry friction
 //! (MuJoCo documentation, *Computation*: friction loss): per velocity coordinate `k` of a joint with
 //! friction loss `F`, a row `J = e_kᵀ` with
 //!
@@ -169,7 +173,9 @@ struct LimitRow {
     /// Index among the robot's limited coordinates, then its limited tendons (for the run report:
     /// [`crate::multibody::JointLimitSolver::note_active`]).
     limited: usize,
-    /// Distance to the limit at the start of the step (rad or m; negative past it).
+    /// Distance at the start of the step to the limit, measured from its floor
+    /// ([`crate::multibody::JointLimitSolver::floor`]): `g − floor` (rad or m; negative when the
+    /// coordinate sank below its floor, which the position bias then drives back).
     gap: f64,
     /// Its row in the robot's contact space.
     off: usize,
@@ -195,12 +201,17 @@ struct FrictionRow {
 }
 
 impl LimitRow {
-    /// The row of robot `r`'s `k`-th limited coordinate or tendon at distance `gap` from its limit.
-    /// A row that starts the step outside its limit is measured from where it is: it stops further
-    /// motion out and lets the joint come back, it does not push it in (as `multibody::limits`
-    /// does without contact).
-    fn new(robot: usize, limited: usize, gap: f64, off: usize, softness: Softness) -> Self {
-        LimitRow { robot, limited, gap: gap.max(0.0), off, normal_mass: 0.0, softness, lambda: 0.0 }
+    /// The row of robot `r`'s `k`-th limited coordinate or tendon at distance `gap` from its
+    /// limit, whose floor is `floor` (`≤ 0`). A quantity that started outside its limit (where the
+    /// simulation started or the state was set) is measured from its floor, the furthest in it has
+    /// come since: the row stops further motion out and lets it come back, it does not push it in
+    /// (as `multibody::limits` does without contact). Below its floor — a soft row's overshoot in an
+    /// earlier step — the gap is negative and the row's position bias drives it back, as a contact
+    /// point's overlap: measured from where each step starts instead, the overshoot of every step
+    /// was kept and a steady load crept through the limit (a held leg's tendon to 0.051 for a limit
+    /// of 0.02 in 2 s).
+    fn new(robot: usize, limited: usize, gap: f64, floor: f64, off: usize, softness: Softness) -> Self {
+        LimitRow { robot, limited, gap: gap - floor, off, normal_mass: 0.0, softness, lambda: 0.0 }
     }
 }
 
@@ -473,23 +484,25 @@ impl LinkStage {
             }
             for (k, (qi, vi, lower, upper)) in limits.bounds().enumerate() {
                 let (q, v) = (view.q[qi], self.robots[r].v0[vi]);
-                for (sign, gap) in [(1.0, q - lower), (-1.0, upper - q)] {
-                    if gap > v.abs() * self.dt + LIMIT_MARGIN {
+                let floor = limits.floor(k);
+                for ((sign, gap), floor) in [(1.0, q - lower), (-1.0, upper - q)].into_iter().zip(floor) {
+                    if gap - floor > v.abs() * self.dt + LIMIT_MARGIN {
                         continue;
                     }
                     // J = s e_iᵀ; its chain: coordinate i and those above it
                     let solve = &mut self.robots[r];
                     let off = solve.add_rows(1, dof_chain(view.model, vi));
                     solve.jac[off * solve.nv + vi] = sign;
-                    self.limit_rows.push(LimitRow::new(r, k, gap, off, soft));
+                    self.limit_rows.push(LimitRow::new(r, k, gap, floor, off, soft));
                 }
             }
             // the limited fixed tendons: rows J = s J_t on `L = L₀ + Σ c_k q_k`, as the joints'
             for (k, t, lower, upper) in limits.tendon_bounds() {
                 let tendon = &view.model.tendons[t];
                 let (length, rate) = (tendon.length(view.q), tendon.rate(&self.robots[r].v0));
-                for (sign, gap) in [(1.0, length - lower), (-1.0, upper - length)] {
-                    if gap > rate.abs() * self.dt + LIMIT_MARGIN {
+                let floor = limits.floor(k);
+                for ((sign, gap), floor) in [(1.0, length - lower), (-1.0, upper - length)].into_iter().zip(floor) {
+                    if gap - floor > rate.abs() * self.dt + LIMIT_MARGIN {
                         continue;
                     }
                     // J = s J_t: s c_k on each term's coordinate; its chain: the coordinates above
@@ -499,7 +512,7 @@ impl LinkStage {
                     for term in &tendon.terms {
                         solve.jac[off * solve.nv + term.v_index] = sign * term.coef;
                     }
-                    self.limit_rows.push(LimitRow::new(r, k, gap, off, soft));
+                    self.limit_rows.push(LimitRow::new(r, k, gap, floor, off, soft));
                 }
             }
         }

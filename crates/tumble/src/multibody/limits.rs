@@ -61,7 +61,11 @@
 //!
 //! A joint that starts outside its limit (`g₀ < 0`) is measured from where it is: the rows use the
 //! gap `g − min(0, g₀)` in phase 2 and the target `0` in phase 1, so the limit stops further motion
-//! outward and lets the joint come back, without pushing it in (no energy is injected).
+//! outward and lets the joint come back, without pushing it in (no energy is injected). The contact
+//! stage's rows (a robot held by resting contact: `contact::links`) are soft, so a step may leave
+//! a quantity past its limit; they measure the gap from a floor kept across steps instead
+//! ([`JointLimitSolver::floor`]), so that such an overshoot is driven back rather than kept, while
+//! a quantity that started outside is still not pushed in.
 //!
 //! **Friction loss** (MuJoCo documentation, *Computation*: the "friction loss" rows of the
 //! constraint solver; MJCF joint `frictionloss`): a joint with dry friction `F > 0` has one row per
@@ -210,6 +214,11 @@ pub struct JointLimitSolver {
     /// Gap of each limited coordinate's lower and upper row at the start of the step (`min(0, g₀)`
     /// is the reference of a joint that started outside).
     start_gap: Vec<[f64; 2]>,
+    /// How far past each limited coordinate's lower and upper limit the contact stage's rows let
+    /// it be (`≤ 0`, rad or m): `min(0, g)` where the limits started (or the state was set), then
+    /// raised, never lowered, to `min(0, g)` at the end of every step
+    /// ([`raise_floor`](Self::raise_floor)); see [`floor`](Self::floor).
+    floor: Vec<[f64; 2]>,
     rows: Vec<Row>,
     /// `M⁻¹ J_rᵀ / s_r` for each active row `r` (`M⁻¹ e_i` for a joint's row, `M⁻¹ J_tᵀ` for a
     /// tendon's), column `r` (nv × rows at most).
@@ -301,6 +310,7 @@ impl JointLimitSolver {
         let m = 2 * n + frictional.len();
         Some(Self {
             start_gap: vec![[0.0; 2]; n],
+            floor: vec![[0.0; 2]; n],
             rows: Vec::with_capacity(m),
             minv_cols: DMatrix::zeros(model.nv(), m),
             k: DMatrix::zeros(m, m),
@@ -405,6 +415,39 @@ impl JointLimitSolver {
             x[row.v_index]
         } else {
             self.jacobian_dot(row.coord, x)
+        }
+    }
+
+    /// The floor of the `k`-th limited coordinate (then tendon, as in
+    /// [`tendon_bounds`](Self::tendon_bounds)): how far past its `[lower, upper]` limits the
+    /// contact stage's rows let it be (`≤ 0` each, rad or m). A row measures its gap from there,
+    /// `g − floor`: a quantity that started outside its limit is not pushed in, only kept from
+    /// going further out than it has come back to; one that started inside has the floor 0, so a
+    /// step's overshoot (the rows are soft, as the contacts' points) is driven back by the next
+    /// steps' position bias, as a contact point's overlap is, instead of being the next step's
+    /// starting point (the creep that took a held leg's tendon to 0.051 for a limit of 0.02 in 2 s).
+    pub fn floor(&self, k: usize) -> [f64; 2] {
+        self.floor[k]
+    }
+
+    /// Sets every floor to `min(0, g)` at `q`: where the limits start (a new simulation, or a state
+    /// set from outside), a quantity outside its limit is taken as it is.
+    pub fn restart_floor(&mut self, q: &[f64]) {
+        for coord in 0..self.limited.len() {
+            let (x, l) = (self.value(coord, q), &self.limited[coord]);
+            self.floor[coord] = [(x - l.lower).min(0.0), (l.upper - x).min(0.0)];
+        }
+    }
+
+    /// At the end of a step: raises each floor to `min(0, g)` at `q` where that is higher (a
+    /// quantity outside its limit that came back), never lowers it.
+    pub fn raise_floor(&mut self, q: &[f64]) {
+        for coord in 0..self.limited.len() {
+            let (x, l) = (self.value(coord, q), &self.limited[coord]);
+            let gap = [x - l.lower, l.upper - x];
+            for (floor, g) in self.floor[coord].iter_mut().zip(gap) {
+                *floor = floor.max(g).min(0.0);
+            }
         }
     }
 

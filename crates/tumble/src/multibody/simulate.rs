@@ -264,7 +264,8 @@ pub enum Method {
 /// The state `(q, v)` of a tree, its model's workspace and the integrator's scratch.
 #[derive(Debug, Clone)]
 pub struct Simulator {
-    /// Configuration (nq).
+    /// Configuration (nq). Written from outside, it wants [`Self::restart_limit_floor`] after (the
+    /// contact stage's limit rows otherwise keep the floors of the old `q`).
     pub q: Vec<f64>,
     /// Velocity (nv).
     pub v: Vec<f64>,
@@ -316,12 +317,21 @@ impl Simulator {
     /// default; with no limited joint it stays off. The joints' friction loss acts either way.
     pub fn set_joint_limits(&mut self, model: &MultibodyModel, on: bool) {
         self.limits = JointLimitSolver::new(model, &mut self.ws, on);
+        self.restart_limit_floor();
     }
 
     /// The joint-limit and friction-loss solver, when limits are enforced or a joint has friction
     /// loss (which joints, how often they pushed; [`JointLimitSolver::has_limits`]).
     pub fn joint_limits(&self) -> Option<&JointLimitSolver> {
         self.limits.as_ref()
+    }
+
+    /// Restarts the limits' floors ([`JointLimitSolver::floor`]) at the current `q`: after `q` was
+    /// set from outside, a joint outside its limit is taken as it is, not pushed in.
+    pub fn restart_limit_floor(&mut self) {
+        if let Some(limits) = self.limits.as_mut() {
+            limits.restart_floor(&self.q);
+        }
     }
 
     /// The joint-limit solver, mutable (to count the activity of limits solved elsewhere).
@@ -448,6 +458,10 @@ impl Simulator {
             let phase = Phase::EndVelocity { friction: end_friction };
             limits.apply(model, &mut self.ws, phase, dt, &mut self.q, &mut self.v);
             limits.end_step();
+        }
+        if let Some(limits) = self.limits.as_mut() {
+            // the contact stage's rows never let a limited quantity sink below where it has been
+            limits.raise_floor(&self.q);
         }
         self.t += dt;
         Ok(())

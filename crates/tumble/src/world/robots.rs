@@ -365,6 +365,7 @@ impl Robot {
         self.sim.q.copy_from_slice(q);
         self.sim.v.copy_from_slice(v);
         crate::multibody::simulate::normalize_quaternions(&self.model, &mut self.sim.q);
+        self.sim.restart_limit_floor();
         self.refresh();
     }
 
@@ -429,6 +430,7 @@ impl Robot {
         self.sim.q.copy_from_slice(&self.q_before);
         self.sim.v.copy_from_slice(&self.v_before);
         self.sim.t = self.t_before;
+        self.sim.restart_limit_floor();
         self.refresh();
     }
 
