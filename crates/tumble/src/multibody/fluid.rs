@@ -74,7 +74,7 @@ impl FluidBox {
     /// centre of mass) along the columns of `body_from_principal`, its centre of mass at `com_body`
     /// (m, body frame); `None` when it is lighter than [`MIN_FLUID_MASS`] (MuJoCo skips it).
     pub fn new(body: usize, mass: f64, com_body: DVec3, body_from_principal: DMat3, moments: DVec3) -> Option<Self> {
-        if !(mass >= MIN_FLUID_MASS) {
+        if mass.is_nan() || mass < MIN_FLUID_MASS {
             return None;
         }
         Some(Self {
