@@ -15,7 +15,8 @@ random states and, in MuJoCo's own conventions (tumble's tests map them with Muj
 - qpos, qvel;
 - mass_matrix: mj_fullM after mj_forward (row by row), armature included;
 - qfrc_bias: Coriolis, centrifugal and gravity (RNE with zero acceleration);
-- qfrc_passive: joint damping and springs;
+- qfrc_passive: joint damping and springs, tendon springs and dampers, and the fluid forces
+  (MuJoCo 4 adds qfrc_fluid to it; the swimmer's <option density viscosity> makes them non-zero);
 - qacc: forward dynamics with contacts, joint limits, equality constraints, friction loss and
   actuators disabled (model.opt.disableflags), so that qacc = M^-1 (qfrc_passive - qfrc_bias);
 - xpos, xquat (w x y z) of every body from mj_kinematics (the world first);

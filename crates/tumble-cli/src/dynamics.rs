@@ -138,7 +138,7 @@ fn evaluate(model: &MultibodyModel, ws: &mut Workspace, line: &str) -> Result<Va
     out.insert("bias".into(), finite("bias", &result)?);
     if let Some(mut tau) = field(object, "tau", nv)? {
         // the model's joint damping and springs act beside τ (none in URDF models)
-        add_passive_forces(model, &q, &v, &mut tau).map_err(|e| e.to_string())?;
+        add_passive_forces(model, ws, &q, &v, &mut tau).map_err(|e| e.to_string())?;
         aba(model, ws, &q, &v, &tau, &mut result).map_err(|e| e.to_string())?;
         out.insert("qdd".into(), finite("qdd", &result)?);
     }
@@ -146,7 +146,7 @@ fn evaluate(model: &MultibodyModel, ws: &mut Workspace, line: &str) -> Result<Va
         rnea(model, ws, &q, &v, &a, &mut result).map_err(|e| e.to_string())?;
         // τ = M a + b − τ_passive: what must be applied beside the model's damping and springs
         let mut passive = vec![0.0; nv];
-        add_passive_forces(model, &q, &v, &mut passive).map_err(|e| e.to_string())?;
+        add_passive_forces(model, ws, &q, &v, &mut passive).map_err(|e| e.to_string())?;
         for (t, p) in result.iter_mut().zip(&passive).filter(|(_, p)| **p != 0.0) {
             *t -= p;
         }

@@ -10,7 +10,7 @@ use nalgebra::DMatrix;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use tumble::math::{DMat3, DQuat, DVec3};
-use tumble::multibody::mjcf::{load_mjcf, Mjcf, MjcfOptions};
+use tumble::multibody::mjcf::{load_mjcf, parse_mjcf, Mjcf, MjcfOptions};
 use tumble::multibody::{aba, bias_forces, crba, forward_kinematics, passive_forces, Workspace};
 
 #[derive(Deserialize)]
@@ -122,7 +122,7 @@ fn compare(name: &str, model_file: &Path, options: MjcfOptions) -> Errors {
         e.bias = e.bias.max(relative(&b_mj, &s.qfrc_bias));
 
         let mut passive = vec![0.0; nv];
-        passive_forces(model, &q, &v, &mut passive).unwrap();
+        passive_forces(model, &mut ws, &q, &v, &mut passive).unwrap();
         let passive_mj = mjcf.layout.force_to_mujoco(&q, &passive).unwrap();
         e.passive = e.passive.max(relative(&passive_mj, &s.qfrc_passive));
 
@@ -245,14 +245,31 @@ fn iiwa14() {
     check("iiwa14", dir().join("menagerie/iiwa14.xml"));
 }
 
-/// The swimmer moves through a viscous medium (`<option density viscosity>`): MuJoCo's fluid forces
-/// are not modelled, so the model is refused, naming the attribute.
+/// The swimmer moves through a dense, viscous medium (`<option density="4000" viscosity="0.1">`):
+/// MuJoCo's inertia-box fluid forces are in its `qfrc_passive` (the swimmer has no joint damping or
+/// springs, so they are all of it) and hence in `qacc`.
 #[test]
-fn swimmer_is_refused_for_its_fluid() {
-    let err = load_mjcf(&dir().join("gymnasium/swimmer.xml"), MjcfOptions::default()).unwrap_err();
-    let text = err.to_string();
-    assert!(err.is_unsupported(), "{text}");
-    assert!(text.contains("<option density>") && text.contains("not supported"), "{text}");
+fn swimmer() {
+    gymnasium("swimmer");
+    let mjcf = load_mjcf(&dir().join("gymnasium/swimmer.xml"), MjcfOptions::default()).unwrap();
+    let fluid = &mjcf.model.fluid;
+    assert_eq!((fluid.medium.density, fluid.medium.viscosity), (4000.0, 0.1));
+    // one box per MJCF body (torso, mid, back), on the body of its last joint
+    assert_eq!(fluid.boxes.len(), 3);
+}
+
+/// MuJoCo's ellipsoid fluid model is refused, naming the attribute and what is read instead.
+#[test]
+fn the_ellipsoid_fluid_model_is_refused() {
+    let text = std::fs::read_to_string(dir().join("gymnasium/swimmer.xml")).unwrap().replacen(
+        r#"<geom density="1000""#,
+        r#"<geom fluidshape="ellipsoid" density="1000""#,
+        1,
+    );
+    let err = parse_mjcf(&text, "swimmer.xml", MjcfOptions::default()).unwrap_err();
+    let msg = err.to_string();
+    assert!(err.is_unsupported(), "{msg}");
+    assert!(msg.contains("fluidshape") && msg.contains("ellipsoid"), "{msg}");
 }
 
 /// Small models written for the conventions: every orientation form in degrees, a frame,
@@ -353,7 +370,8 @@ fn check_actuators(name: &str, file: &Path, options: MjcfOptions) {
         let scene = tumble::scene::load(&scene_path).unwrap_or_else(|e| panic!("{name}: {e}"));
         let robot = &scene.world.robots[0];
         let mut tau = vec![0.0; nv];
-        robot.control.joint_forces(&robot.model, &q, &v, &mut tau).unwrap();
+        let mut robot_ws = Workspace::new(&robot.model);
+        robot.control.joint_forces(&robot.model, &mut robot_ws, &q, &v, &mut tau).unwrap();
         let tau_mj = mjcf.layout.force_to_mujoco(&q, &tau).unwrap();
         let want: Vec<f64> = s.qfrc_actuator.iter().zip(&s.qfrc_passive).map(|(a, p)| a + p).collect();
         let err = relative(&tau_mj, &want);

@@ -48,7 +48,10 @@ fn refusals_name_the_element_attribute_and_position() {
     let cases: &[(&str, &str)] = &[
         (&model("<joint type=\"ball\" stiffness=\"1\"/>"), "<joint stiffness>: not supported (springs on ball"),
         (&model("<joint type=\"ball\" range=\"0 30\"/>"), "<joint range>: not supported (limits of ball"),
-        ("<mujoco><option viscosity=\"0.1\"/></mujoco>", "test.xml:1:17: <option viscosity>: not supported"),
+        (
+            &model("<geom size=\"0.1\" fluidshape=\"ellipsoid\"/>"),
+            "<geom fluidshape>: not supported (fluidshape=\"ellipsoid\"",
+        ),
         ("<mujoco><option><flag contact=\"disable\"/></option></mujoco>", "<flag contact>: not supported"),
         ("<mujoco><compiler coordinate=\"global\"/></mujoco>", "<compiler coordinate>: not supported"),
         ("<mujoco><tendon><spatial/></tendon></mujoco>", "<spatial>: not supported (spatial tendons)"),

@@ -187,3 +187,34 @@ fn a_robots_kinetic_energy_counts_the_armature() {
     let t = robot.kinetic_energy();
     assert!((t - half_vmv).abs() <= 1e-12 * half_vmv, "T = {t}, ½ vᵀ M v = {half_vmv}");
 }
+
+/// The Gymnasium swimmer (`<option density="4000" viscosity="0.1">`) in a scene: under zero control,
+/// set gliding and flexing, the medium's drag only takes energy out (its motion is horizontal, so
+/// its energy is all kinetic), and takes most of it within a second.
+#[test]
+fn the_gymnasium_swimmer_glides_to_a_stop_in_its_medium() {
+    let swimmer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/swimmer.xml");
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "version = 1\n[world]\ndt = 1e-3\nduration = 1.0\nintegrator = \"rk4\"\n[[robot]]\nname = \"swimmer\"\nmjcf = {:?}\n",
+        swimmer.display().to_string()
+    );
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let mut scene = scene::load(&path).unwrap();
+    assert!(scene.world.robots[0].model.fluid.is_active());
+    let robot = &mut scene.world.robots[0];
+    let q = robot.q().to_vec();
+    let v = [1.0, -0.5, 0.8, 2.0, -1.5];
+    robot.set_state(&q, &v);
+    let start = robot.energy();
+    let mut previous = start;
+    for _ in 0..scene.world.config.step_count() {
+        scene.world.step().unwrap();
+        let e = scene.world.robots[0].energy();
+        assert!(e <= previous + 1e-12 * start, "the energy rose from {previous} to {e} J");
+        previous = e;
+    }
+    eprintln!("swimmer: kinetic energy {start:.3} J → {previous:.3e} J after 1 s");
+    assert!(previous < 0.5 * start, "the drag took too little: {start} → {previous} J");
+}

@@ -103,7 +103,8 @@ fn passive_forces_are_damping_and_springs() {
     let q = random_q(&mut rng, &model);
     let v = rng.vector(model.nv(), 2.0);
     let mut tau = vec![0.0; model.nv()];
-    passive_forces(&model, &q, &v, &mut tau).unwrap();
+    let mut ws = Workspace::new(&model);
+    passive_forces(&model, &mut ws, &q, &v, &mut tau).unwrap();
     for b in &model.bodies {
         let j = &b.joint;
         for k in j.v_index..j.v_index + j.kind.nv() {

@@ -983,7 +983,7 @@ impl RobotSolve {
         }
         // a₀ = M⁻¹ (τ − C(q, v)) with the factor at hand: the bias forces by RNEA and one solve
         // (cheaper than a second articulated-body pass)
-        if view.control.joint_forces(model, q, v, &mut self.tau).is_err()
+        if view.control.joint_forces(model, &mut self.ws, q, v, &mut self.tau).is_err()
             || bias_forces_placed(model, &mut self.ws, v, &mut self.a0).is_err()
         {
             return false;

@@ -21,7 +21,8 @@
 //! | [`impulse_aba`] | `Δv = M⁻¹ J_cᵀ p` of an impulse at a link's point, its `K`, through ABA's `I^A` | `O(n)`, `K` `O(d)` |
 //! | [`energy`]    | kinetic and potential energy, centre of mass               | `O(n)`          |
 //! | [`jacobian`]  | the Jacobian of a frame                                    | `O(n d)`        |
-//! | [`passive`]   | joint damping and springs, `τ = −d v − k (q − q_ref)`        | `O(n)`          |
+//! | [`passive`]   | joint damping and springs, `τ = −d v − k (q − q_ref)`, and the fluid's force | `O(n)` |
+//! | [`fluid`]     | MuJoCo's inertia-box fluid model: Stokes and quadratic drag, `τ = Σ J_bᵀ w_b` | `O(n)` |
 //! | [`tendon`]    | fixed tendons `L = L₀ + Σ c q`: spring-dampers `τ = J_tᵀ f`   | `O(terms)`      |
 //! | [`simulate`]  | RK4, semi-implicit and explicit Euler; torques, damping, PD | `O(n)` a stage |
 //! | [`limits`]    | joint position limits: speculative impulse + constraint force | `O(n d)` when active |
@@ -37,6 +38,7 @@ pub mod contact_point;
 pub mod crba;
 pub mod energy;
 pub mod fk;
+pub mod fluid;
 pub mod impulse_aba;
 pub mod jacobian;
 pub mod joint;
@@ -59,6 +61,7 @@ pub use aba::{aba, AbaError};
 pub use crba::{crba, CrbaError};
 pub use energy::{armature_energy, center_of_mass, kinetic_energy, potential_energy};
 pub use fk::{forward_kinematics, update_placements};
+pub use fluid::{add_fluid_forces, Fluid, FluidBox, Medium};
 pub use jacobian::frame_jacobian;
 pub use joint::{JointDynamics, JointKind, JointLimits};
 pub use limits::JointLimitSolver;

@@ -241,6 +241,9 @@ pub struct MultibodyModel {
     /// dampers, actuators and limits act on several joints at once ([`super::tendon`]); empty
     /// from URDF.
     pub tendons: Vec<super::tendon::FixedTendon>,
+    /// The medium the bodies move in and their equivalent boxes (MJCF `<option density viscosity
+    /// wind>`, [`super::fluid`]); a void medium (the default, and every URDF model) exerts no force.
+    pub fluid: super::fluid::Fluid,
     nq: usize,
     nv: usize,
     /// Motion subspace columns, one per velocity coordinate (child frame).
@@ -619,6 +622,7 @@ impl ModelBuilder {
             geometries: self.geometries,
             locked: Vec::new(),
             tendons: Vec::new(),
+            fluid: super::fluid::Fluid::default(),
             nq: self.nq,
             nv: self.nv,
             subspace,

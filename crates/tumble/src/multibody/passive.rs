@@ -7,33 +7,48 @@
 //! τ_passive,k = −d v_k − k_s (q_k − q_ref)      (the spring on one-coordinate joints only)
 //! ```
 //!
-//! and along each fixed tendon ([`super::tendon`]) `τ += J_tᵀ (−k (L − L_s) − d L̇)`.
+//! along each fixed tendon ([`super::tendon`]) `τ += J_tᵀ (−k (L − L_s) − d L̇)`, and the medium's
+//! drag on the bodies ([`super::fluid`], MuJoCo's `qfrc_fluid`, which it counts in `qfrc_passive`).
 //!
-//! Inputs: `q` (nq), `v` (nv). Output: `τ_passive` (nv; N·m or N), added to the joint forces by the
-//! simulator and by `tumble dynamics`. Only joints with a non-zero coefficient are touched, so a
-//! model without any (every URDF model) computes exactly what it did before. Cost `O(n)`.
+//! Inputs: `q` (nq), `v` (nv); the workspace serves the fluid forces only (a forward-kinematics
+//! pass when the medium is not void). Output: `τ_passive` (nv; N·m or N), added to the joint forces
+//! by the simulator and by `tumble dynamics`. Only joints with a non-zero coefficient are touched,
+//! so a model without any (every URDF model) computes exactly what it did before. Cost `O(n)`.
 
 use super::model::MultibodyModel;
-use super::workspace::{check_len, LengthError};
+use super::workspace::{check_len, LengthError, Workspace};
 
-/// Adds the passive joint forces at `(q, v)` to `tau` (lengths nq, nv, nv).
-pub fn add_passive_forces(model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64]) -> Result<(), LengthError> {
+/// Adds the passive forces at `(q, v)` to `tau` (lengths nq, nv, nv); `ws`'s placements,
+/// velocities and forces are overwritten when the model's medium is not void.
+pub fn add_passive_forces(
+    model: &MultibodyModel,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    tau: &mut [f64],
+) -> Result<(), LengthError> {
     check_len("q", q.len(), model.nq())?;
     check_len("v", v.len(), model.nv())?;
     check_len("tau", tau.len(), model.nv())?;
-    add_unchecked(model, q, v, tau);
+    add_unchecked(model, ws, q, v, tau);
     Ok(())
 }
 
-/// The passive joint forces at `(q, v)` written into `tau` (lengths nq, nv, nv).
-pub fn passive_forces(model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64]) -> Result<(), LengthError> {
+/// The passive forces at `(q, v)` written into `tau` (lengths nq, nv, nv).
+pub fn passive_forces(
+    model: &MultibodyModel,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    tau: &mut [f64],
+) -> Result<(), LengthError> {
     check_len("tau", tau.len(), model.nv())?;
     tau.fill(0.0);
-    add_passive_forces(model, q, v, tau)
+    add_passive_forces(model, ws, q, v, tau)
 }
 
 /// [`add_passive_forces`] with lengths checked by the caller.
-pub(crate) fn add_unchecked(model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64]) {
+pub(crate) fn add_unchecked(model: &MultibodyModel, ws: &mut Workspace, q: &[f64], v: &[f64], tau: &mut [f64]) {
     for body in &model.bodies {
         let j = &body.joint;
         let d = j.dynamics;
@@ -50,6 +65,8 @@ pub(crate) fn add_unchecked(model: &MultibodyModel, q: &[f64], v: &[f64], tau: &
     }
     // the fixed tendons' springs and dampers, τ += J_tᵀ (−k (L − L_s) − d L̇)
     super::tendon::add_passive_unchecked(model, q, v, tau);
+    // the medium's drag, τ += Σ_b J_bᵀ [n; f]_b (nothing when it is void)
+    super::fluid::add_unchecked(model, ws, q, v, tau);
 }
 
 /// The springs' potential energy `½ Σ k_s (q − q_ref)²` (J), the tendons' springs included.

@@ -143,6 +143,18 @@ pub fn reduced_model(model: &MultibodyModel, locked: &[&str], q_full: &[f64]) ->
             kept
         })
         .collect();
+    // each fluid box moves with its owner: inertial_X_owner = inertial_X_body body_X_owner
+    reduced.fluid.medium = model.fluid.medium;
+    reduced.fluid.boxes = model
+        .fluid
+        .boxes
+        .iter()
+        .filter_map(|b| {
+            let (owner_body, b_x_owner) = owner[b.body];
+            let body = owner_body?;
+            Some(super::fluid::FluidBox { body, inertial_from_body: b.inertial_from_body.compose(&b_x_owner), ..*b })
+        })
+        .collect();
     Ok(reduced)
 }
 

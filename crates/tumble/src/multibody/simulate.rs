@@ -157,10 +157,12 @@ impl Control {
         }
     }
 
-    /// `τ(q, v)` written into `tau` (lengths nq, nv, nv).
+    /// `τ(q, v)` written into `tau` (lengths nq, nv, nv); `ws` serves the medium's drag (its
+    /// placements, velocities and forces are overwritten when the model's medium is not void).
     pub fn joint_forces(
         &self,
         model: &MultibodyModel,
+        ws: &mut Workspace,
         q: &[f64],
         v: &[f64],
         tau: &mut [f64],
@@ -169,13 +171,21 @@ impl Control {
         check_len("q", q.len(), model.nq())?;
         check_len("v", v.len(), model.nv())?;
         check_len("tau", tau.len(), model.nv())?;
-        self.forces(model, q, v, tau, None);
+        self.forces(model, ws, q, v, tau, None);
         Ok(())
     }
 
     /// `τ(q, v)` (lengths checked by the caller); `clamped[k]` is set where the effort limit cut
     /// coordinate `k`'s commanded force.
-    fn forces(&self, model: &MultibodyModel, q: &[f64], v: &[f64], tau: &mut [f64], mut clamped: Option<&mut [bool]>) {
+    fn forces(
+        &self,
+        model: &MultibodyModel,
+        ws: &mut Workspace,
+        q: &[f64],
+        v: &[f64],
+        tau: &mut [f64],
+        mut clamped: Option<&mut [bool]>,
+    ) {
         tau.copy_from_slice(&self.tau);
         for body in &model.bodies {
             let j = &body.joint;
@@ -214,8 +224,9 @@ impl Control {
             }
             tendon.add_force(d.gear * applied, tau);
         }
-        // the joints' own damping and springs (the model's, zero from URDF): −d v − k (q − q_ref)
-        super::passive::add_unchecked(model, q, v, tau);
+        // the joints' own damping and springs (the model's, zero from URDF): −d v − k (q − q_ref), and
+        // the medium's drag (none unless the model has a medium)
+        super::passive::add_unchecked(model, ws, q, v, tau);
     }
 
     fn check(&self, model: &MultibodyModel) -> Result<(), LengthError> {
@@ -405,13 +416,13 @@ impl Simulator {
                 // the contact solve evaluated the dynamics at (q₀, v₀): its end velocity is this
                 // step's (the configuration is the substeps', below); the forces only for the
                 // effort clamps' count
-                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                control.forces(model, &mut self.ws, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 self.v.copy_from_slice(v);
             }
             (Method::Rk4, _) => self.rk4(model, control, dt)?,
             (Method::SemiImplicitEuler, _) => {
                 // v ← v + dt v̇(q, v);  q ← q ⊕ v dt
-                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                control.forces(model, &mut self.ws, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 self.add_contact_force();
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 for (v, a) in self.v.iter_mut().zip(&self.k_v[0]) {
@@ -422,7 +433,7 @@ impl Simulator {
             }
             (Method::Euler, _) => {
                 // q ← q ⊕ v dt and v ← v + dt v̇(q, v), from the old (q, v)
-                control.forces(model, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
+                control.forces(model, &mut self.ws, &self.q, &self.v, &mut self.tau, Some(&mut self.clamped));
                 self.add_contact_force();
                 aba(model, &mut self.ws, &self.q, &self.v, &self.tau, &mut self.k_v[0])?;
                 self.q_stage.copy_from_slice(&self.q);
@@ -494,7 +505,7 @@ impl Simulator {
                 }
             }
             model.coordinate_rate(&self.q_stage, &self.v_stage, &mut self.k_q[s])?;
-            control.forces(model, &self.q_stage, &self.v_stage, &mut self.tau, Some(&mut self.clamped));
+            control.forces(model, &mut self.ws, &self.q_stage, &self.v_stage, &mut self.tau, Some(&mut self.clamped));
             self.add_contact_force();
             aba(model, &mut self.ws, &self.q_stage, &self.v_stage, &self.tau, &mut self.k_v[s])?;
         }

@@ -7,11 +7,12 @@ use super::filter::{pair_may_collide, ContactFilter, GeomFilter};
 use super::layout::{LayoutJoint, MujocoLayout};
 use super::pose::Pose;
 use super::xml::El;
-use super::{LeaveOut, MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind, Transmission};
-use crate::math::DVec3;
+use super::{LeaveOut, MjcfActuator, MjcfBody, MjcfError, MjcfErrorKind, MjcfOption, Transmission};
+use crate::math::{DMat3, DVec3};
+use crate::multibody::fluid::{principal_axes, Fluid, FluidBox};
 use crate::multibody::joint::{JointDynamics, JointKind, JointLimits};
 use crate::multibody::model::{FrameOrigin, GeometryRole, LinkGeometry, ModelBuilder};
-use crate::multibody::spatial::{RigidInertia, Xform};
+use crate::multibody::spatial::{outer, RigidInertia, Xform};
 
 impl<'a> Reader<'a> {
     /// `<contact>`: `<exclude>` pairs recorded; `<pair>` refused.
@@ -65,6 +66,37 @@ impl<'a> Reader<'a> {
             .collect()
     }
 
+    /// The equivalent box of each MJCF body with mass (MuJoCo's `body_mass`, `body_ipos`,
+    /// `body_iquat`, `body_inertia`), fixed to the tumble body it sits on; `placed` as
+    /// [`assemble`](Self::assemble) made it (the world first). The principal axes are MuJoCo's
+    /// where it takes them as given, else an eigen-solver's.
+    fn fluid_boxes(&self, placed: &[MjcfBody]) -> Vec<FluidBox> {
+        let mut boxes = Vec::new();
+        for (b, at) in self.bodies.iter().zip(&placed[1..]) {
+            let Some(body) = at.body else { continue };
+            let i = &b.inertia;
+            let com = i.com();
+            // Ī_c = Ī_o − m (|c|² 1 − c cᵀ)
+            let shift = DMat3::from_diagonal(DVec3::splat(com.length_squared())) - outer(com, com);
+            let inertia_com = i.i_o - i.mass * shift;
+            let (moments, axes) = match b.principal_rot {
+                Some(rot) => {
+                    let r = DMat3::from_quat(rot);
+                    let principal = r.transpose() * inertia_com * r;
+                    (DVec3::new(principal.x_axis.x, principal.y_axis.y, principal.z_axis.z), r)
+                }
+                None => principal_axes(inertia_com),
+            };
+            // in the tumble body's frame: the MJCF body frame sits at pose_in_body
+            let body_from_mjcf = DMat3::from_quat(at.pose_in_body.rot);
+            let com_body = at.pose_in_body.pos + body_from_mjcf * com;
+            if let Some(fb) = FluidBox::new(body, i.mass, com_body, body_from_mjcf * axes, moments) {
+                boxes.push(fb);
+            }
+        }
+        boxes
+    }
+
     /// The tree handed to the builder: per MJCF body one tumble body per joint, the geometry and
     /// the frames; the layout of MuJoCo's coordinates; where each MJCF body sits. What
     /// `leave_out` names is not built (its names are checked by the caller).
@@ -72,7 +104,7 @@ impl<'a> Reader<'a> {
         &mut self,
         name: &str,
         root: &El,
-        gravity: DVec3,
+        option: &MjcfOption,
         leave_out: &LeaveOut,
         excludes: &[(String, String)],
     ) -> Result<(crate::multibody::MultibodyModel, MujocoLayout, Vec<MjcfBody>, ContactFilter), MjcfError> {
@@ -233,7 +265,10 @@ impl<'a> Reader<'a> {
             };
             at.error(MjcfErrorKind::Model(e))
         })?;
-        model.gravity = gravity;
+        model.gravity = option.gravity;
+        if !option.medium.is_void() {
+            model.fluid = Fluid { medium: option.medium, boxes: self.fluid_boxes(&placed) };
+        }
         let layout = MujocoLayout::new(&model, layout);
         placed.retain(|b| !leave_out.bodies.contains(&b.name));
         Ok((model, layout, placed, filter))

@@ -6,7 +6,8 @@ use super::defaults::Defaults;
 use super::pose::Pose;
 use super::xml::El;
 use super::{Compiler, LeaveOut, Mjcf, MjcfError, MjcfErrorKind, MjcfIntegrator, MjcfOption, MjcfOptions};
-use crate::math::DVec3;
+use crate::math::{DQuat, DVec3};
+use crate::multibody::fluid::Medium;
 use crate::multibody::joint::JointDynamics;
 use crate::multibody::model::GeometryShape;
 use crate::multibody::spatial::RigidInertia;
@@ -65,6 +66,9 @@ pub(super) struct BodyRec<'a> {
     pub(super) joints: Vec<JointRec<'a>>,
     /// Spatial inertia in the body frame.
     pub(super) inertia: RigidInertia,
+    /// MuJoCo's principal axes of that inertia (`body_from_inertial`), where MuJoCo takes them as
+    /// given (`diaginertia`, a single primitive geom); `None`: from an eigen-solver.
+    pub(super) principal_rot: Option<DQuat>,
     pub(super) geoms: Vec<GeomRec<'a>>,
 }
 
@@ -80,6 +84,9 @@ pub(super) struct GeomRec<'a> {
     pub(super) shape: GeometryShape,
     /// The geom frame in the body frame.
     pub(super) in_body: Pose,
+    /// MuJoCo's orientation of the geom in the body frame: `in_body.rot` but for `fromto`, which
+    /// MuJoCo turns about the geom's axis otherwise (the fluid model's inertial axes).
+    pub(super) mujoco_rot: DQuat,
     pub(super) contype: u32,
     pub(super) conaffinity: u32,
     pub(super) friction: Option<f64>,
@@ -162,7 +169,7 @@ pub(super) fn build_leaving_out(
             if list.is_empty() { "the file has none".to_string() } else { list }
         ))));
     }
-    let (model, layout, bodies, filter) = reader.assemble(&model_name, root, option.gravity, leave_out, &excludes)?;
+    let (model, layout, bodies, filter) = reader.assemble(&model_name, root, &option, leave_out, &excludes)?;
     let mut model = model;
     model.tendons = super::tendon::read_tendons(&mut reader, root, &model, &layout)?;
     // what reading the tendons noticed (the soft parameters), after the tree's remarks
@@ -301,8 +308,12 @@ impl<'a> Reader<'a> {
     }
 
     fn option(&mut self, root: &'a El) -> Result<MjcfOption, MjcfError> {
-        let mut o =
-            MjcfOption { timestep: 0.002, gravity: DVec3::new(0.0, 0.0, -9.81), integrator: MjcfIntegrator::Euler };
+        let mut o = MjcfOption {
+            timestep: 0.002,
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            integrator: MjcfIntegrator::Euler,
+            medium: Medium::default(),
+        };
         let mut gravity_on = true;
         for el in root.children.iter().filter(|e| e.tag == "option") {
             let v = View::new(el, None);
@@ -352,9 +363,21 @@ impl<'a> Reader<'a> {
                     _ => MjcfIntegrator::ImplicitFast,
                 };
             }
-            v.refuse_unless("wind", all_zero, "wind: fluid forces are not modelled")?;
-            v.refuse_unless("density", all_zero, "density of the medium: fluid forces are not modelled")?;
-            v.refuse_unless("viscosity", all_zero, "viscosity of the medium: fluid forces are not modelled")?;
+            // the medium of the inertia-box fluid model (crate::multibody::fluid)
+            if let Some(w) = v.vec("wind", 3)? {
+                o.medium.wind = vec3(&w);
+            }
+            for (name, value) in [("density", &mut o.medium.density), ("viscosity", &mut o.medium.viscosity)] {
+                *value = v.f64(name, *value)?;
+                if !(*value >= 0.0 && value.is_finite()) {
+                    return Err(
+                        v.err(name, MjcfErrorKind::Invalid(format!("the medium's {name} must be finite and ≥ 0")))
+                    );
+                }
+            }
+            if !o.medium.wind.is_finite() {
+                return Err(v.err("wind", MjcfErrorKind::Invalid("the wind must be finite".into())));
+            }
             v.refuse_unless("o_margin", all_zero, "o_margin: an override of contact margins")?;
             for child in &el.children {
                 if child.tag != "flag" {

@@ -156,6 +156,9 @@ pub struct MjcfOption {
     /// `gravity` (m/s², world frame), `0 0 −9.81` by default (zero with `<flag gravity="disable">`).
     pub gravity: DVec3,
     pub integrator: MjcfIntegrator,
+    /// `density` (kg/m³), `viscosity` (Pa·s) and `wind` (m/s, world frame) of the medium, zero by
+    /// default: MuJoCo's inertia-box fluid model ([`crate::multibody::fluid`]), carried by the model.
+    pub medium: crate::multibody::fluid::Medium,
 }
 
 /// An actuator as read (scenes drive it under a constant `ctrl`, `scene::robot`): force

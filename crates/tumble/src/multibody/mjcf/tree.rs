@@ -7,7 +7,7 @@ use super::mesh_inertia::mesh_mass_properties;
 use super::pose::{orientation, pose, z_to_quat, Pose, ORIENTATIONS};
 use super::xml::El;
 use super::{MjcfError, MjcfErrorKind};
-use crate::math::{DMat3, DVec3};
+use crate::math::{DMat3, DQuat, DVec3};
 use crate::multibody::joint::JointDynamics;
 use crate::multibody::model::{placed_inertia, GeometryShape};
 use crate::multibody::spatial::RigidInertia;
@@ -106,6 +106,7 @@ impl<'a> Reader<'a> {
             in_parent,
             joints: Vec::new(),
             inertia: RigidInertia::ZERO,
+            principal_rot: None,
             geoms: Vec::new(),
         });
         // joints in order, the explicit inertial
@@ -164,8 +165,16 @@ impl<'a> Reader<'a> {
             Some(b) => b,
             None => inertial.is_none(),
         };
-        self.bodies[index].inertia =
-            if from_geoms { self.inertia_from_geoms(index)? } else { inertial.unwrap_or(RigidInertia::ZERO) };
+        let (inertia, principal_rot) = if from_geoms {
+            (self.inertia_from_geoms(index)?, self.single_geom_axes(index))
+        } else {
+            match inertial {
+                Some((inertia, axes)) => (inertia, axes),
+                None => (RigidInertia::ZERO, None),
+            }
+        };
+        self.bodies[index].inertia = inertia;
+        self.bodies[index].principal_rot = principal_rot;
         Ok(())
     }
 
@@ -272,7 +281,9 @@ impl<'a> Reader<'a> {
         Ok(JointRec { el, name, kind, anchor, axis: axis / n, reference, range, dynamics, springref })
     }
 
-    fn inertial(&mut self, el: &'a El) -> Result<RigidInertia, MjcfError> {
+    /// The `<inertial>`'s spatial inertia in the body frame and, with `diaginertia`, its principal
+    /// axes (`body_from_principal`; `fullinertia` leaves them to an eigen-solver).
+    fn inertial(&mut self, el: &'a El) -> Result<(RigidInertia, Option<DQuat>), MjcfError> {
         let v = View::new(el, None);
         v.check_known(&["pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "mass", "diaginertia", "fullinertia"])?;
         let Some(pos) = v.vec("pos", 3)? else { return Err(el.error(MjcfErrorKind::MissingAttribute("pos"))) };
@@ -304,7 +315,24 @@ impl<'a> Reader<'a> {
             // MuJoCo refuses these too
             return Err(el.error(MjcfErrorKind::Invalid(format!("the inertia is not physical: {defect}"))));
         }
-        Ok(placed_inertia(mass, vec3(&pos), DMat3::from_quat(rot), tensor))
+        let axes = v.vec("diaginertia", 3)?.map(|_| rot);
+        Ok((placed_inertia(mass, vec3(&pos), DMat3::from_quat(rot), tensor), axes))
+    }
+
+    /// MuJoCo's inertial axes when a body's inertia comes from one geom of mass above `mjEPS`
+    /// (`mjCBody::InertiaFromGeom` copies that geom's frame; a primitive's frame is principal). `None`
+    /// for several geoms or a mesh: its principal axes come from an eigen-solver.
+    fn single_geom_axes(&self, index: usize) -> Option<DQuat> {
+        let mut counted = self.bodies[index].geoms.iter().filter(|g| {
+            let volume = g.shape.unit_mass_properties().map(|(volume, _)| volume);
+            let mass = g.mass.or(volume.map(|vol| g.density * vol));
+            g.counts && mass.is_none_or(|m| m > 1e-14)
+        });
+        let g = counted.next()?;
+        if counted.next().is_some() || matches!(g.shape, GeometryShape::Mesh { .. }) {
+            return None;
+        }
+        Some(g.mujoco_rot)
     }
 
     fn geom(&mut self, el: &'a El, childclass: Option<&str>, frame: Pose) -> Result<Option<GeomRec<'a>>, MjcfError> {
@@ -346,7 +374,12 @@ impl<'a> Reader<'a> {
         ])?;
         self.soft(&v);
         v.refuse_unless("shellinertia", |s| s == "false", "shellinertia: the inertia of a shell")?;
-        v.refuse_unless("fluidshape", |s| s == "none", "fluidshape: fluid forces are not modelled")?;
+        // the inertia-box fluid model is read (the medium in <option>); the ellipsoid model is not
+        v.refuse_unless(
+            "fluidshape",
+            |s| s == "none",
+            "fluidshape=\"ellipsoid\": MuJoCo's ellipsoid fluid model (the inertia-box model, fluidshape=\"none\", is read)",
+        )?;
         let ty = v
             .keyword("type", &["plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh", "sdf"])?
             .unwrap_or(if v.get("mesh").is_some() { "mesh" } else { "sphere" });
@@ -370,6 +403,8 @@ impl<'a> Reader<'a> {
         }
         let s = |k: usize| size.get(k).copied().unwrap_or(0.0);
         let mut in_frame = pose(&v, &self.compiler)?;
+        // MuJoCo's geom orientation, which is its inertial frame when it is a body's only geom
+        let mut mujoco_rot = None;
         let mut half_length = None;
         if let Some(ft) = v.vec("fromto", 6)? {
             if !matches!(ty, "capsule" | "cylinder" | "box" | "ellipsoid") {
@@ -382,6 +417,9 @@ impl<'a> Reader<'a> {
                 return Err(v.err("fromto", MjcfErrorKind::Invalid("its two points coincide".into())));
             }
             in_frame = Pose { rot: z_to_quat(d / len), pos: 0.5 * (a + b) };
+            // MuJoCo turns z to `from − to` (mjuu_z2quat), not to `to − from`: the same axis, but
+            // turned otherwise about it
+            mujoco_rot = Some(frame.then(&Pose { rot: z_to_quat(-d / len), pos: in_frame.pos }).rot);
             half_length = Some(0.5 * len);
         }
         let positive = |k: usize, what: &str| -> Result<f64, MjcfError> {
@@ -439,6 +477,7 @@ impl<'a> Reader<'a> {
         let friction = v.numbers("friction")?.and_then(|f| f.first().copied());
         let group = v.int("group", 0)?;
         let in_body = frame.then(&in_frame);
+        let mujoco_rot = mujoco_rot.unwrap_or(in_body.rot);
         let (lo, hi) = self.compiler.inertia_groups;
         let counts = (lo..=hi).contains(&group) && !matches!(shape, GeometryShape::Plane);
         let mass = v.vec("mass", 1)?.map(|m| m[0]);
@@ -451,6 +490,7 @@ impl<'a> Reader<'a> {
             mesh_inertia,
             shape,
             in_body,
+            mujoco_rot,
             contype: contype as u32,
             conaffinity: conaffinity as u32,
             friction,
