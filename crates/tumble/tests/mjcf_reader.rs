@@ -247,15 +247,49 @@ fn ant_collision_shapes() {
     assert!(matches!(shapes[1].shape, Shape::Sphere { radius } if radius == 0.25));
     let capsules = shapes.iter().filter(|s| matches!(s.shape, Shape::Capsule { radius, .. } if radius == 0.08)).count();
     assert_eq!(capsules, 12);
-    // aux_1_geom: fromto 0 0 0 → 0.2 0.2 0 on the torso: centre (0.1, 0.1, 0), axis along (1, 1, 0)
+    // aux_1_geom: fromto 0 0 0 → 0.2 0.2 0 on the torso: centre (0.1, 0.1, 0), z along from − to,
+    // −(1, 1, 0), as MuJoCo turns it
     let aux = &shapes[2];
     assert_eq!(aux.body, Some(0));
     assert!((aux.position_body - tumble::math::DVec3::new(0.1, 0.1, 0.0)).length() < 1e-15);
     let axis = aux.orientation_body * tumble::math::DVec3::Z;
-    assert!((axis - tumble::math::DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-15);
+    assert!((axis + tumble::math::DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-15);
     match aux.shape {
         Shape::Capsule { half_height, .. } => assert!((half_height - 0.5 * 0.2_f64.hypot(0.2)).abs() < 1e-15),
         _ => unreachable!(),
+    }
+}
+
+/// A box or an ellipsoid given by `fromto` is MuJoCo's: its first size on both sides across the
+/// axis (MuJoCo 4.0.1's `geom_size` for `size="0.05 0.02 0.07"` is `(0.05, 0.05, |to − from| / 2)`),
+/// its z axis along `from − to` and its x axis where MuJoCo's minimal turn of z puts it (the
+/// `geom_quat` MuJoCo compiles for this geom: `(0.93348309, 0.19892737, −0.29839106, 0)`), and
+/// so the body's mass is MuJoCo's `body_mass` at density 1000 (box 5.3851648071345055 kg, ellipsoid
+/// 2.819665699410676 kg).
+#[test]
+fn a_box_and_an_ellipsoid_from_fromto_are_mujocos() {
+    use tumble::body::Shape;
+    use tumble::math::{DQuat, DVec3};
+    use tumble::multibody::link_shapes::collision_shapes;
+    let half_length = 0.5 * DVec3::new(0.3, 0.2, -0.4).length();
+    for ty in ["box", "ellipsoid"] {
+        let text = format!(
+            "<mujoco><worldbody><body name=\"arm\"><joint type=\"ball\"/>\
+             <geom type=\"{ty}\" fromto=\"0 0 0 0.3 0.2 -0.4\" size=\"0.05 0.02 0.07\"/></body></worldbody></mujoco>"
+        );
+        let mjcf = parse(&text).unwrap();
+        if ty == "box" {
+            // (an ellipsoid does not collide yet: its sizes and frame show in its mass alone)
+            let shapes = collision_shapes(&mjcf.model, "test").unwrap();
+            let Shape::Box { half_extents } = shapes[0].shape else { panic!("{:?}", shapes[0].shape) };
+            assert!((half_extents - DVec3::new(0.05, 0.05, half_length)).length() < 1e-15, "{half_extents}");
+            let mujoco = DQuat::from_xyzw(0.19892737, -0.29839106, 0.0, 0.93348309);
+            let turn = shapes[0].orientation_body.angle_between(mujoco);
+            assert!(turn < 1e-8, "{turn} rad from MuJoCo's geom_quat");
+        }
+        let mass = mjcf.model.total_mass;
+        let mujoco_mass = if ty == "box" { 5.3851648071345055 } else { 2.819665699410676 };
+        assert!((mass - mujoco_mass).abs() < 1e-12 * mujoco_mass, "{ty}: {mass}");
     }
 }
 

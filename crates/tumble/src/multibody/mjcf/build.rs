@@ -84,9 +84,6 @@ pub(super) struct GeomRec<'a> {
     pub(super) shape: GeometryShape,
     /// The geom frame in the body frame.
     pub(super) in_body: Pose,
-    /// MuJoCo's orientation of the geom in the body frame: `in_body.rot` but for `fromto`, which
-    /// MuJoCo turns about the geom's axis otherwise (the fluid model's inertial axes).
-    pub(super) mujoco_rot: DQuat,
     pub(super) contype: u32,
     pub(super) conaffinity: u32,
     pub(super) friction: Option<f64>,

@@ -332,7 +332,7 @@ impl<'a> Reader<'a> {
         if counted.next().is_some() || matches!(g.shape, GeometryShape::Mesh { .. }) {
             return None;
         }
-        Some(g.mujoco_rot)
+        Some(g.in_body.rot)
     }
 
     fn geom(&mut self, el: &'a El, childclass: Option<&str>, frame: Pose) -> Result<Option<GeomRec<'a>>, MjcfError> {
@@ -404,7 +404,6 @@ impl<'a> Reader<'a> {
         let s = |k: usize| size.get(k).copied().unwrap_or(0.0);
         let mut in_frame = pose(&v, &self.compiler)?;
         // MuJoCo's geom orientation, which is its inertial frame when it is a body's only geom
-        let mut mujoco_rot = None;
         let mut half_length = None;
         if let Some(ft) = v.vec("fromto", 6)? {
             if !matches!(ty, "capsule" | "cylinder" | "box" | "ellipsoid") {
@@ -416,10 +415,10 @@ impl<'a> Reader<'a> {
             if !(len > 1e-10) {
                 return Err(v.err("fromto", MjcfErrorKind::Invalid("its two points coincide".into())));
             }
-            in_frame = Pose { rot: z_to_quat(d / len), pos: 0.5 * (a + b) };
             // MuJoCo turns z to `from − to` (mjuu_z2quat), not to `to − from`: the same axis, but
-            // turned otherwise about it
-            mujoco_rot = Some(frame.then(&Pose { rot: z_to_quat(-d / len), pos: in_frame.pos }).rot);
+            // the geom turned otherwise about it (a box's or an ellipsoid's sides, and the inertial
+            // axes MuJoCo copies from a body's single geom)
+            in_frame = Pose { rot: z_to_quat(-d / len), pos: 0.5 * (a + b) };
             half_length = Some(0.5 * len);
         }
         let positive = |k: usize, what: &str| -> Result<f64, MjcfError> {
@@ -449,11 +448,19 @@ impl<'a> Reader<'a> {
                 },
             },
             "box" | "ellipsoid" => {
-                let z = match half_length {
-                    Some(h) => h,
-                    None => positive(2, "the third half size")?,
+                // with `fromto`, MuJoCo takes the first size for both sides across the axis
+                // (`size = (s₀, s₀, |to − from| / 2)`; checked with MuJoCo's `geom_size`)
+                let e = match half_length {
+                    Some(h) => {
+                        let across = positive(0, "the first half size")?;
+                        DVec3::new(across, across, h)
+                    }
+                    None => DVec3::new(
+                        positive(0, "the first half size")?,
+                        positive(1, "the second half size")?,
+                        positive(2, "the third half size")?,
+                    ),
                 };
-                let e = DVec3::new(positive(0, "the first half size")?, positive(1, "the second half size")?, z);
                 if ty == "box" {
                     GeometryShape::Box { half_extents: e }
                 } else {
@@ -477,7 +484,6 @@ impl<'a> Reader<'a> {
         let friction = v.numbers("friction")?.and_then(|f| f.first().copied());
         let group = v.int("group", 0)?;
         let in_body = frame.then(&in_frame);
-        let mujoco_rot = mujoco_rot.unwrap_or(in_body.rot);
         let (lo, hi) = self.compiler.inertia_groups;
         let counts = (lo..=hi).contains(&group) && !matches!(shape, GeometryShape::Plane);
         let mass = v.vec("mass", 1)?.map(|m| m[0]);
@@ -490,7 +496,6 @@ impl<'a> Reader<'a> {
             mesh_inertia,
             shape,
             in_body,
-            mujoco_rot,
             contype: contype as u32,
             conaffinity: conaffinity as u32,
             friction,
