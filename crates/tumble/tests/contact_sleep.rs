@@ -166,3 +166,88 @@ fn sleep_off_leaves_every_body_awake() {
     steps(&mut w, 200);
     assert_eq!(w.contacts().sleep().count(), 0);
 }
+
+/// The stack of [`stack_and_ball`] without the ball: every free body can sleep.
+fn stack_alone() -> World {
+    let mut w = stack_and_ball();
+    w.bodies.truncate(4);
+    w
+}
+
+#[test]
+fn a_world_entirely_asleep_is_at_rest_and_steps_as_the_full_step_would() {
+    // one world takes the steps at rest; its twin is borrowed mutably before each step (nothing
+    // changed), which makes every step go through the whole contact stage
+    let (mut rest, mut full) = (stack_alone(), stack_alone());
+    for k in 0..300 {
+        if k >= 120 {
+            // asleep since about 1 s: a step or two later the world is at rest
+            if k >= 125 {
+                assert!(rest.at_rest(), "step {k}: the sleeping stack is not at rest");
+            }
+            let _ = &mut *full.bodies;
+            assert!(!full.at_rest());
+        }
+        rest.step().unwrap();
+        full.step().unwrap();
+    }
+    assert_eq!(rest.bodies.to_vec(), full.bodies.to_vec());
+    assert_eq!(rest.time(), full.time());
+    assert_eq!(rest.contacts().contacts(), full.contacts().contacts());
+    assert_eq!(rest.contacts().impulses(), full.contacts().impulses());
+    // then the same push on both: the same trajectories
+    for w in [&mut rest, &mut full] {
+        w.bodies[3].state.velocity = DVec3::new(0.5, 0.0, 0.0);
+        assert!(!w.at_rest());
+        steps(w, 90);
+    }
+    assert!(rest.bodies[3].state.position.x > 0.01, "the pushed box did not move");
+    assert_eq!(rest.bodies.to_vec(), full.bodies.to_vec());
+}
+
+#[test]
+fn a_world_at_rest_wakes_on_every_change_the_caller_can_make() {
+    let at_rest = || {
+        let mut w = stack_alone();
+        steps(&mut w, 150);
+        assert!(w.at_rest(), "the stack is not at rest after 2.5 s");
+        assert!((1..=3).all(|i| asleep(&w, i)));
+        w
+    };
+    let awake_after = |w: &mut World, n: usize| {
+        steps(w, n);
+        (1..=3).all(|i| !asleep(w, i))
+    };
+    // a force, through the loads
+    let mut w = at_rest();
+    w.bodies[2].loads.force_world = DVec3::new(50.0, 0.0, 0.0);
+    assert!(awake_after(&mut w, 1), "a force did not wake the world at rest");
+    // gravity, through the config (not a borrow of the bodies)
+    let mut w = at_rest();
+    w.config.gravity = DVec3::new(0.0, 0.0, G);
+    assert!(!w.at_rest());
+    assert!(awake_after(&mut w, 1), "a change of gravity did not wake the world at rest");
+    // sleeping switched off
+    let mut w = at_rest();
+    w.config.contact.sleep = false;
+    assert!(awake_after(&mut w, 1), "sleep = false left the world asleep");
+    // the floor moved
+    let mut w = at_rest();
+    w.bodies[0].state.position.z = -0.5;
+    assert!(awake_after(&mut w, 1), "a lowered floor did not wake the world at rest");
+    steps(&mut w, 30);
+    assert!(w.bodies[1].state.position.z < 0.3, "the stack did not fall onto the lowered floor");
+    // a new body dropped in
+    let mut w = at_rest();
+    let mut ball = material(sphere("ball", 0.25, 0.2, DVec3::new(0.0, 0.0, 4.0)), 0.5, 0.5);
+    ball.state.velocity = DVec3::new(0.0, 0.0, -3.0);
+    w.bodies.push(ball);
+    assert!(!w.at_rest());
+    steps(&mut w, 30);
+    assert!(w.contact_collisions() > 0, "the dropped ball never struck the stack");
+    assert!((1..=3).all(|i| !asleep(&w, i)), "the struck stack is still asleep");
+    // a different time step
+    let mut w = at_rest();
+    w.config.dt = DT / 2.0;
+    assert!(!w.at_rest(), "a new time step kept the world at rest");
+}

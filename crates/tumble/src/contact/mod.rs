@@ -199,6 +199,9 @@ pub struct ContactStage {
     kept: bool,
     /// The last step solved its contacts (`shifts`, `held` and `energy_before` are this step's).
     solved: bool,
+    /// The settings, gravity (m/s²), time step (s) and body count of the last step when it found
+    /// every free body asleep and nothing to do ([`at_rest`](Self::at_rest)).
+    rest: Option<(ContactSettings, DVec3, f64, usize)>,
     /// The contacts of robot links (collision shapes, rows, the robots' part of the solve).
     pub links: links::LinkStage,
     /// Energy dissipated so far.
@@ -257,6 +260,15 @@ impl ContactStage {
         &self.contacts
     }
 
+    /// Whether a step with these settings, gravity (m/s²), time step (s) and `n` bodies has nothing
+    /// to do for the bodies: the last step found every free body asleep, its contacts the kept ones
+    /// of the step before, and no robot link; with the same settings, and the bodies not borrowed
+    /// mutably since (the caller's part: [`crate::world::Bodies`]), nothing can wake or move, and
+    /// the step would find the same again. The caller skips the step's passes over the bodies.
+    pub fn at_rest(&self, settings: &ContactSettings, gravity: DVec3, dt: f64, n: usize) -> bool {
+        self.rest == Some((*settings, gravity, dt, n))
+    }
+
     /// Whether the last step's [`contacts`](Self::contacts) are those of the step before, pair for
     /// pair: the kept contacts of sleeping islands, with nothing awake touching anything.
     pub fn contacts_kept(&self) -> bool {
@@ -300,6 +312,7 @@ impl ContactStage {
         self.gravity = gravity;
         self.kept = false;
         self.solved = false;
+        self.rest = None;
         if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
             self.contacts.clear();
             self.impulses.clear();
@@ -363,6 +376,9 @@ impl ContactStage {
             // wake nobody: nothing to solve. As below when there is no contact at all: the robots'
             // rows of an earlier step go
             self.links.clear();
+            if settings.sleep && self.sleep.awake_count() == 0 && self.links.colliders.is_empty() {
+                self.rest = Some((*settings, gravity, dt, bodies.len()));
+            }
             return;
         }
         if self.sleep.wake_touched(bodies, &self.contacts, self.links.touched_bodies()) {

@@ -153,6 +153,8 @@ pub struct Sleep {
     gravity: DVec3,
     /// Bodies asleep now.
     count: usize,
+    /// Free bodies awake at the end of the last [`update`](Self::update) (sleeping enabled).
+    awake: usize,
     /// Whether an island fell asleep or woke since `frozen` was built.
     changed: bool,
     /// Counts every change of who sleeps or of `frozen`: equal epochs, the same sleeping state.
@@ -184,6 +186,12 @@ impl Sleep {
     /// How many bodies are asleep.
     pub fn count(&self) -> usize {
         self.count
+    }
+
+    /// How many free bodies were awake at the end of the last [`update`](Self::update) (before any
+    /// woke in that step's contacts), counted only while sleeping is enabled.
+    pub(super) fn awake_count(&self) -> usize {
+        self.awake
     }
 
     /// Whether body `i` is asleep.
@@ -339,10 +347,12 @@ impl Sleep {
         }
         // still times; the islands are built only when a body has been still long enough
         let mut candidate = false;
+        self.awake = 0;
         for (i, b) in bodies.iter().enumerate() {
             if b.fixed || self.asleep[i] {
                 continue;
             }
+            self.awake += 1;
             let s = &b.state;
             let speed = s.velocity.length() + radii(i) * s.omega_body.length();
             self.still[i] = if speed < settings.sleep_speed { self.still[i] + dt } else { 0.0 };
@@ -413,6 +423,7 @@ impl Sleep {
             self.island[i] = r;
             self.snapshots[i] = Some(Snapshot::of(b));
             self.count += 1;
+            self.awake -= 1;
             self.changed = true;
             self.epoch += 1;
         }
