@@ -143,6 +143,14 @@ impl World {
         self.world.energy()
     }
 
+    /// The potential energy stored at the end of the last step in the soft rows that hold the
+    /// robots (their resting contacts, joint and tendon limits), each a spring of stiffness
+    /// `m_n ω²` on its deflection (J): a passive robot's energy that cannot rise is `energy()`
+    /// plus this.
+    fn contact_elastic_energy(&self) -> f64 {
+        self.world.contact_elastic_energy()
+    }
+
     /// Total linear momentum of the moving bodies and floating-base robots, world frame (kg·m/s).
     fn linear_momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.world.linear_momentum().to_array())

@@ -4,7 +4,8 @@
 //!   `k_p (u − qpos) = m g l sin q` (with the joint's `ref`: `qpos = q + ref`), and one driven by a
 //!   `motor` where `g u = m g l sin q`; `ctrlrange` clamps the control;
 //! - the Gymnasium Ant under zero control, let go above the floor, comes to rest on it, its ankles
-//!   (outside their ranges at the start) not pushed in by the contact stage's limit rows;
+//!   (outside their ranges at the start) not pushed in by the contact stage's limit rows; at its
+//!   file's `dt` = 10 ms its energy, with what the soft rows' springs store, never rises;
 //! - bad entries name the file, line and field.
 
 use std::path::Path;
@@ -127,6 +128,41 @@ fn the_gymnasium_ant_comes_to_rest_on_the_floor() {
     let lost = scene.world.contact_energy();
     eprintln!("ant: collisions took {:.3} J, resting contacts {:.3} J", lost.collisions, lost.friction);
     assert!(lost.friction >= 0.0 && lost.collisions >= 0.0, "{lost:?}");
+}
+
+/// The Ant as its file runs it (`dt` = 10 ms, RK4), dropped on its floor under zero control: its
+/// energy counted with the springs of the soft rows that hold it never rises. The robot's own
+/// `T + V` does rise (2.19e-5 J, from t = 2.77 s): when its leg tips land (t = 2.58 s) they lift
+/// the torso 4 mm, the torso settles back 9 µm, pressing the tips 48.9 µm into the floor where the
+/// contact rows' springs hold its weight at 44 µm, and the ankles' limit rows past their floor;
+/// over the next 0.3 s those springs give 2.2e-5 J back, raising the robot 2.4 µm. A spring–damper
+/// contact does that; the system's energy is the robot's plus what the springs store
+/// (`World::contact_elastic_energy`), and that never rises.
+#[test]
+fn the_gymnasium_ant_at_its_files_step_gains_no_energy() {
+    let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/ant.xml");
+    let mut scene = scene::load(&ant).unwrap();
+    assert_eq!((scene.world.config.dt, scene.world.config.integrator), (0.01, tumble::Integrator::Rk4));
+    let energy = |w: &tumble::World| w.robots[0].energy() + w.contact_elastic_energy();
+    let (mut lowest, mut gain) = (energy(&scene.world), 0.0_f64);
+    let (mut robot_lowest, mut robot_gain, mut stored) = (f64::INFINITY, 0.0_f64, 0.0_f64);
+    for _ in 0..400 {
+        scene.world.step().unwrap();
+        let e = energy(&scene.world);
+        lowest = lowest.min(e);
+        gain = gain.max(e - lowest);
+        let t = scene.world.robots[0].energy();
+        robot_lowest = robot_lowest.min(t);
+        robot_gain = robot_gain.max(t - robot_lowest);
+        stored = stored.max(scene.world.contact_elastic_energy());
+    }
+    eprintln!(
+        "ant at dt = 10 ms: largest gain {gain:.2e} J (the robot's T + V alone: {robot_gain:.2e} J; \
+         the springs held up to {stored:.2e} J)"
+    );
+    assert!(gain <= 1e-6, "the ant gained {gain} J");
+    let lowest_gap = scene.world.contacts().links.contacts().iter().map(|c| c.gap).fold(f64::INFINITY, f64::min);
+    assert!(lowest_gap > -2e-3, "penetration {lowest_gap}");
 }
 
 fn e_line() -> String {

@@ -120,6 +120,8 @@ class World:
         """Back to the model's initial state at ``t = 0``."""
     def energy(self) -> float:
         """Kinetic plus gravitational potential energy (J)."""
+    def contact_elastic_energy(self) -> float:
+        """Energy stored in the springs of the soft rows holding the robots at the end of the last step (J)."""
     def linear_momentum(self) -> _F64:
         """Total linear momentum, world frame (kg·m/s), shape (3,)."""
     def angular_momentum(self) -> _F64:

@@ -302,6 +302,9 @@ pub struct LinkStage {
     /// they held, since the start (J): per held step, `E(q₀, v₀ + Δv) − E(end)` with `Δv` the
     /// step's collisions; booked by the world after each robot's step ([`Self::book_resting`]).
     pub resting_energy_lost: f64,
+    /// The potential energy stored in the soft rows' springs at the end of the last solve (J):
+    /// [`Self::elastic_energy`].
+    elastic_energy: f64,
 }
 
 impl LinkStage {
@@ -334,6 +337,8 @@ impl LinkStage {
         dt: f64,
         slop: f64,
     ) {
+        // (set again by the step's solve, if it has one)
+        self.elastic_energy = 0.0;
         if self.colliders.is_empty() {
             self.contacts.clear();
             return;
@@ -793,6 +798,37 @@ impl LinkStage {
         }
     }
 
+    /// After the substeps: the potential energy stored in the rows' springs where the substeps left
+    /// the bodies, `Σ ½ m_n ω² min(0, C)²` ([`Softness::stored_energy`]), with `C` the contact
+    /// rows' separation beyond the slop, `s + slop` (the deflection their position bias acts on),
+    /// and the limit rows' gap from their floor, `g − floor + s`.
+    pub(super) fn store_elastic_energy(&mut self, bodies: &[SolverBody], slop: f64) {
+        let mut energy = 0.0;
+        for row in &self.rows {
+            let s = row.adjusted_gap
+                + row.n.dot(
+                    side_displacement(&self.robots, bodies, row.b, row.r_b)
+                        - side_displacement(&self.robots, bodies, row.a, row.r_a),
+                );
+            energy += row.softness.stored_energy(row.normal_mass, s + slop);
+        }
+        for row in &self.limit_rows {
+            let s = row.gap + self.robots[row.robot].s[row.off];
+            energy += row.softness.stored_energy(row.normal_mass, s);
+        }
+        self.elastic_energy = energy;
+    }
+
+    /// The potential energy (J) stored at the end of the last step in the springs of the soft rows
+    /// of the robots' resting contacts and of their joint and tendon limits: each row's
+    /// `½ m_n ω² C²` for a deflection `C < 0` (an overlap beyond the slop, an overshoot past a
+    /// limit's floor; [`Softness::stored_energy`]), zero when no row acted. A robot resting on such
+    /// rows has sunk into them under its load; when a deflection shrinks, the row gives that energy
+    /// back, so that a passive robot's `T + V` alone may rise while `T + V` plus this does not.
+    pub fn elastic_energy(&self) -> f64 {
+        self.elastic_energy
+    }
+
     /// One pass over the joint-limit rows (the normal part of [`Self::solve`], in joint space).
     pub(super) fn solve_limits(&mut self, sweep: &Sweep) {
         for row in self.limit_rows.iter_mut() {
@@ -921,6 +957,7 @@ impl LinkStage {
 
     /// Forgets the step's rows (no contact this step).
     pub(super) fn clear(&mut self) {
+        self.elastic_energy = 0.0;
         self.contacts.clear();
         self.impulses.clear();
         self.rows.clear();

@@ -680,6 +680,7 @@ impl ContactStage {
             self.lambdas[ci] = k.lambda;
         }
         if with_links {
+            links.store_elastic_energy(&self.bodies, slop);
             links.finish(robots, dt);
         }
         self.previous.clear();

@@ -39,6 +39,10 @@ pub struct Softness {
     pub mass_scale: f64,
     /// `s_i`: the fraction of the accumulated impulse taken back (the spring's give).
     pub impulse_scale: f64,
+    /// `ω²` (1/s²): the spring's stiffness per unit of the row's effective mass, `k = m_n ω²`
+    /// (zero for a rigid row). A row at rest holds the load `λ/h = −m_n ω² C` at the deflection
+    /// `C < 0` and stores `½ m_n ω² C²` ([`Self::stored_energy`]).
+    pub omega_squared: f64,
 }
 
 impl Softness {
@@ -46,13 +50,28 @@ impl Softness {
     /// is rigid without bias.
     pub fn new(hertz: f64, zeta: f64, h: f64) -> Self {
         if hertz <= 0.0 {
-            return Self { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 };
+            return Self { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0, omega_squared: 0.0 };
         }
         let omega = 2.0 * std::f64::consts::PI * hertz;
         let a1 = 2.0 * zeta + h * omega;
         let a2 = h * omega * a1;
         let a3 = 1.0 / (1.0 + a2);
-        Self { bias_rate: omega / a1, mass_scale: a2 * a3, impulse_scale: a3 }
+        Self { bias_rate: omega / a1, mass_scale: a2 * a3, impulse_scale: a3, omega_squared: omega * omega }
+    }
+
+    /// The potential energy (J) of the row's spring at the deflection `c` (m or rad; only `c < 0`,
+    /// an overlap or an overshoot, loads it), for the row's effective mass `normal_mass`
+    /// (`m_n = 1/(J M⁻¹ Jᵀ)`): `½ m_n ω² min(0, c)²`.
+    ///
+    /// The soft constraint is the implicit discretisation of the force `F = −k C − c_d u` with
+    /// `k = m_n ω²`, `c_d = 2 ζ m_n ω` (Catto, Solver2D): at rest (`u = 0`, the same `λ = F h` applied
+    /// every substep) its update `Δλ = −m_n s_m (u + β_s C) − s_i λ` is stationary iff
+    /// `s_i λ = −m_n s_m β_s C`, and `s_m / s_i = a₂ = hω a₁`, `β_s = ω/a₁` give `λ/h = −m_n ω² C`:
+    /// the load is held by a spring of stiffness `m_n ω²` at the deflection `C`. When the deflection
+    /// shrinks, that spring gives its energy back to the bodies (their `T + V` rises by up to it).
+    pub fn stored_energy(&self, normal_mass: f64, c: f64) -> f64 {
+        let c = c.min(0.0);
+        0.5 * normal_mass * self.omega_squared * c * c
     }
 }
 

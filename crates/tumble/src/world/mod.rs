@@ -462,6 +462,14 @@ impl World {
         }
     }
 
+    /// The potential energy (J) stored at the end of the last step in the soft rows that hold the
+    /// robots (their resting contacts, joint and tendon limits): each row a spring of stiffness
+    /// `m_n ω²` on its deflection ([`crate::contact::links::LinkStage::elastic_energy`]). The
+    /// energy of a passive robot that cannot rise is its `T + V` plus this.
+    pub fn contact_elastic_energy(&self) -> f64 {
+        self.contact.links.elastic_energy()
+    }
+
     /// Collisions resolved since the start, the links' included.
     pub fn contact_collisions(&self) -> u64 {
         self.contact.impacts + self.contact.links.impacts
