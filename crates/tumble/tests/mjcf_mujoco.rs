@@ -305,13 +305,11 @@ fn synthetic_defaults_inertia() {
 /// meshes among them (group 2, inside `inertiagrouprange`), with MuJoCo's `legacy` mesh inertia.
 /// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
 ///
-/// Not reached: poses and velocities agree to 8e-16, but the mass matrix only to 3.0e-10 and
-/// `qacc` to 7.5e-10 relative (bias 1.6e-11). `tools/mjcf_allegro_frames.py` shows the gap is
-/// MuJoCo's: its compiled inertia frames of the mesh bodies are off by up to 6e-7 rad (mass,
-/// centre of mass and principal moments agree to 5e-14); with exact frames MuJoCo's own M moves by
-/// 3.0e-10 and agrees with tumble's to 3e-15.
+/// Each mesh's tensor is the one MuJoCo's compiler keeps after turning the mesh to its principal
+/// axes with its Jacobi solver stopped at an off-diagonal of 1e-7 of the largest element
+/// (`mesh_inertia::mujoco_principal_tensor`): with the exact tensor instead, M differed by
+/// 3.0e-10 and `qacc` by 7.5e-10 (the frames 1e-7 to 6e-7 rad apart; `tools/mjcf_allegro_frames.py`).
 #[test]
-#[ignore = "M agrees to 3.0e-10 and qacc to 7.5e-10, not 1e-10: MuJoCo's compiled mesh inertia frames are off by up to 6e-7 rad (tools/mjcf_allegro_frames.py, docs/mjcf.md)"]
 fn allegro_right_hand_inertia_from_meshes() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
     assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
