@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where the Allegro hand's mass matrix differs from MuJoCo's (docs/mjcf.md, "Not reached").
+"""How MuJoCo 4.0.1 compiles the Allegro hand's mesh inertia frames (docs/mjcf.md, "Agreement").
 
 Usage (from the repository root, with mujoco, numpy and trimesh in a virtualenv):
 
@@ -7,16 +7,27 @@ Usage (from the repository root, with mujoco, numpy and trimesh in a virtualenv)
 
 The Allegro hand (../shared/menagerie/wonik_allegro/right_hand.xml) has no <inertial>: each body's
 inertia comes from one mesh geom (MuJoCo's legacy mesh inertia; the collision primitives have
-mass 0). The script
+mass 0). MuJoCo's compiler (mjCMesh::Process) turns each mesh to its principal axes with its 3x3
+Jacobi eigen-solver (mjuu_eig3), which in 4.0.1 takes a relative tolerance; for meshes it is
+called with 1e-7 (read from libmujoco.so.4.0.1: the constant loaded before the call in
+mjCMesh::Process; the body and fullinertia call sites pass 4e-15). The solver rotates about the
+largest off-diagonal of R^T I R until it is at most reltol * max|I_kl|. The geom gets R as its
+frame and diag(R^T I R) as its moments, so MuJoCo's tensor is I less the off-diagonal left.
+The script
 
 1. computes each mesh's tensor exactly as tumble does (multibody::mjcf::mesh_inertia: pyramids from
-   the face centroid, |volume| per triangle), places it in its body, and compares it with MuJoCo's
-   compiled body_inertia / body_iquat: mass, centre of mass and principal moments agree to round-off,
-   the principal frame does not (the residual off-diagonal of the exact tensor in MuJoCo's frame);
-2. replaces every body's inertia frame in MuJoCo's compiled model by the exact principal frame
+   the face centroid, |volume| per triangle), runs that Jacobi solver on it (mujoco_eig3 below, a
+   re-implementation), and compares the frame with MuJoCo's compiled mesh_quat, with
+   mju_eig3Tol(..., 1e-7) from the library itself, and with the old solver in the public source
+   (absolute 1e-12 stop and cosine test, which does not match 4.0.1);
+2. places each body's mesh in its body and compares mass, centre of mass, body_iquat, body_inertia
+   and the tensor R diag(d) R^T with MuJoCo's compiled model. It also prints the off-diagonal the
+   exact tensor keeps in MuJoCo's frame;
+3. replaces every body's inertia frame in MuJoCo's compiled model by the exact principal frame
    (numpy eigh) and recomputes mj_fullM, qacc and qfrc_bias at the fixture's states
-   (crates/tumble/tests/fixtures/mjcf/allegro_right.json): the change is the whole gap between
-   tumble's figures and MuJoCo's.
+   (crates/tumble/tests/fixtures/mjcf/allegro_right.json). That change (3e-10 in M) is what tumble
+   was off by while it used the exact tensor; multibody::mjcf::mesh_inertia::mujoco_principal_tensor
+   now makes the same truncation.
 """
 import json
 import os
@@ -75,34 +86,125 @@ def legacy_mesh_inertia(path, scale):
     return volume.sum(), com, np.trace(second) * np.eye(3) - second
 
 
+def mujoco_eig3(mat, reltol, old=False):
+    """MuJoCo's 3x3 Jacobi eigen-solver as its compiler runs it: (diagonal, quaternion w x y z).
+
+    Rotations about the largest off-diagonal element (ties: (0,1) only if strictly largest, then
+    (0,2) if strictly larger than (1,2)), the smaller angle, accumulated in a quaternion; stop when
+    that element is at most max(4e-15, reltol) * max|mat| (4.0.1), or, with old=True, as in the
+    public source up to 3.12.0: below an absolute 1e-12, or when the rotation's cosine exceeds
+    1 - 1e-12. The moments are then sorted in decreasing order by quarter turns (which do not
+    change the tensor R diag(d) R^T).
+    """
+    mat = np.asarray(mat, dtype=float).reshape(3, 3)
+    tol = 1e-12 if old else max(4e-15, reltol) * np.abs(mat).max()
+    q = np.array([1.0, 0.0, 0.0, 0.0])
+    for _ in range(500):
+        r = quat_to_mat(q)
+        d = r.T @ mat @ r
+        a01, a02, a12 = abs(d[0, 1]), abs(d[0, 2]), abs(d[1, 2])
+        i, j, k = (0, 1, 2) if a01 > a02 and a01 > a12 else (0, 2, 1) if a02 > a12 else (1, 2, 0)
+        b = d[i, j]
+        if (abs(b) < tol) if old else (abs(b) <= tol):
+            break
+        tau = (d[j, j] - d[i, i]) / (2 * b)
+        root = np.sqrt(1 + tau * tau)
+        t = 1 / (tau + root) if tau >= 0 else -1 / (root - tau)
+        if old and 1 / np.sqrt(1 + t * t) > 1 - 1e-12:
+            break
+        # new axes e_i' = c e_i - s e_j: a turn by -theta about e_k, +theta when (i, j, k) = (0, 2, 1)
+        h = t / (1 + np.sqrt(1 + t * t))
+        c = 1 / np.sqrt(1 + h * h)
+        turn = np.array([c, 0.0, 0.0, 0.0])
+        turn[k + 1] = (h if k == 1 else -h) * c
+        mujoco.mju_mulQuat(q, q.copy(), turn)
+        q /= np.linalg.norm(q)
+    # moments in decreasing order (bubble sort over the pairs (0,1), (1,2), (0,1)), each swap a
+    # quarter turn about the third axis; below the tolerance they count as equal
+    moments = np.diag(d).copy()
+    sort_tol = 1e-12 if old else max(1e-12, reltol) * np.abs(mat).max()
+    for j in (0, 1, 0):
+        if moments[j] + sort_tol < moments[j + 1]:
+            moments[[j, j + 1]] = moments[[j + 1, j]]
+            turn = np.zeros(4)
+            turn[0] = turn[(j + 2) % 3 + 1] = np.sqrt(0.5)
+            mujoco.mju_mulQuat(q, q.copy(), turn)
+            q /= np.linalg.norm(q)
+    return moments, q
+
+
+def library_eig3tol(mat, reltol):
+    """mju_eig3Tol of libmujoco itself (exported), or None if it is not there."""
+    import ctypes
+    import glob
+    libs = glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*"))
+    if not libs:
+        return None
+    lib = ctypes.CDLL(libs[0])
+    if not hasattr(lib, "mju_eig3Tol"):
+        return None
+    w, v, q = (ctypes.c_double * 3)(), (ctypes.c_double * 9)(), (ctypes.c_double * 4)()
+    lib.mju_eig3Tol(w, v, q, (ctypes.c_double * 9)(*np.asarray(mat, float).flatten()), ctypes.c_double(reltol))
+    return np.array(list(q))
+
+
+def same_quat(a, b):
+    return np.abs(np.sign(np.dot(a, b)) * np.asarray(a) - np.asarray(b)).max()
+
+
 def main():
     m = mujoco.MjModel.from_xml_path(XML)
     spec = mujoco.MjSpec.from_file(XML)
     meshdir = os.path.join(os.path.dirname(XML), spec.meshdir)
     exact = mujoco.MjModel.from_xml_path(XML)
-    print(f"{'body':14s} {'mass err':>9s} {'com err':>9s} {'moments err':>11s} {'off-diag in MuJoCo frame':>25s}")
+    unit_of = {}
+    print("1. mesh frames against MuJoCo's mesh_quat (reltol 1e-7; library mju_eig3Tol; old public solver)")
+    for i in range(m.nmesh):
+        mesh = spec.meshes[i]
+        volume, com, unit = legacy_mesh_inertia(os.path.join(meshdir, mesh.file), np.asarray(mesh.scale))
+        unit_of[mesh.name] = (volume, com, unit)
+        _, q = mujoco_eig3(unit, 1e-7)
+        lib = library_eig3tol(unit, 1e-7)
+        _, q_old = mujoco_eig3(unit, 0, old=True)
+        print(f"  {m.mesh(i).name:16s} mesh_quat {same_quat(q, m.mesh_quat[i]):8.1e}  "
+              f"mesh_pos {np.abs(com - m.mesh_pos[i]).max():8.1e}  "
+              f"vs mju_eig3Tol {same_quat(q, lib) if lib is not None else float('nan'):8.1e}  "
+              f"old solver {same_quat(q_old, m.mesh_quat[i]):8.1e}")
+    print("2. bodies against MuJoCo's compiled body_* (relative to the largest moment)")
+    print(f"  {'body':14s} {'mass':>8s} {'com':>8s} {'iquat':>8s} {'inertia':>8s} {'tensor':>8s} {'exact off-diag':>15s}")
     for b in range(1, m.nbody):
         body = spec.body(m.body(b).name)
         meshes = [g for g in body.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH and g.group <= 5]
         assert len(meshes) == 1, m.body(b).name
         g = meshes[0]
-        mesh = spec.mesh(g.meshname)
-        volume, com, unit = legacy_mesh_inertia(os.path.join(meshdir, mesh.file), np.asarray(mesh.scale))
-        rot = quat_to_mat(np.asarray(g.quat) / np.linalg.norm(g.quat))
+        volume, com, unit = unit_of[g.meshname]
+        moments_unit, q = mujoco_eig3(unit, 1e-7)
+        geom_quat = np.asarray(g.quat, float) / np.linalg.norm(g.quat)
+        iquat = np.zeros(4)
+        mujoco.mju_mulQuat(iquat, geom_quat, q)
+        rot = quat_to_mat(geom_quat)
         mass = g.density * volume
-        tensor = g.density * rot @ unit @ rot.T
+        moments = g.density * moments_unit
         centre = np.asarray(g.pos) + rot @ com
-        moments, axes = np.linalg.eigh(tensor)
-        moments, axes = moments[::-1], axes[:, ::-1]
+        frame = quat_to_mat(iquat)
+        tensor = frame @ np.diag(moments) @ frame.T
+        mj_frame = quat_to_mat(m.body_iquat[b])
+        mj_tensor = mj_frame @ np.diag(m.body_inertia[b]) @ mj_frame.T
+        exact_tensor = g.density * rot @ unit @ rot.T
+        in_mujoco_frame = mj_frame.T @ exact_tensor @ mj_frame
+        big = moments.max()
+        off = np.abs(in_mujoco_frame - np.diag(np.diag(in_mujoco_frame))).max() / big
+        print(f"  {m.body(b).name:14s} {abs(mass - m.body_mass[b]) / mass:8.1e} "
+              f"{np.abs(centre - m.body_ipos[b]).max():8.1e} {same_quat(iquat, m.body_iquat[b]):8.1e} "
+              f"{np.abs(moments - m.body_inertia[b]).max() / big:8.1e} "
+              f"{np.abs(tensor - mj_tensor).max() / big:8.1e} {off:15.1e}")
+        w, axes = np.linalg.eigh(exact_tensor)
+        w, axes = w[::-1], axes[:, ::-1]
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1
-        in_mujoco_frame = quat_to_mat(m.body_iquat[b]).T @ tensor @ quat_to_mat(m.body_iquat[b])
-        off = np.abs(in_mujoco_frame - np.diag(np.diag(in_mujoco_frame))).max() / moments[0]
-        print(f"{m.body(b).name:14s} {abs(mass - m.body_mass[b]) / mass:9.1e} "
-              f"{np.abs(centre - m.body_ipos[b]).max():9.1e} "
-              f"{np.abs(np.sort(moments) - np.sort(m.body_inertia[b])).max() / moments[0]:11.1e} {off:25.1e}")
-        exact.body_inertia[b] = moments
+        exact.body_inertia[b] = w
         exact.body_iquat[b] = mat_to_quat(axes)
+    print("3. MuJoCo with exact inertia frames against MuJoCo as compiled")
     m.opt.disableflags |= DISABLE
     exact.opt.disableflags |= DISABLE
     fixture = json.load(open(FIXTURE))
@@ -116,7 +218,7 @@ def main():
             full = np.zeros((model.nv, model.nv))
             mujoco.mj_fullM(model, d, full)
             out.append((full, d.qacc.copy(), d.qfrc_bias.copy()))
-        print(f"state {k}: MuJoCo with exact inertia frames against MuJoCo as compiled: "
+        print(f"  state {k}: "
               f"M {rel(out[1][0], out[0][0]):.1e}, qacc {rel(out[1][1], out[0][1]):.1e}, bias {rel(out[1][2], out[0][2]):.1e}")
 
 
