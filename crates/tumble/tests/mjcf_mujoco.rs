@@ -303,7 +303,8 @@ fn synthetic_defaults_inertia() {
 
 /// The Allegro hand has no `<inertial>`: every body's inertia comes from its geoms, the visual
 /// meshes among them (group 2, inside `inertiagrouprange`), with MuJoCo's `legacy` mesh inertia.
-/// Read in place from `../shared/menagerie/` (with its meshes), as the Menagerie README asks.
+/// Menagerie's `wonik_allegro/right_hand.xml` with its LICENSE and the eleven meshes it uses, copied
+/// beside the fixtures (the test reads no file outside the repository).
 ///
 /// Each mesh's tensor is the one MuJoCo's compiler keeps after turning the mesh to its principal
 /// axes with its Jacobi solver stopped at an off-diagonal of 1e-7 of the largest element
@@ -311,9 +312,7 @@ fn synthetic_defaults_inertia() {
 /// 3.0e-10 and `qacc` by 7.5e-10 (the frames 1e-7 to 6e-7 rad apart; `tools/mjcf_allegro_frames.py`).
 #[test]
 fn allegro_right_hand_inertia_from_meshes() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/menagerie/wonik_allegro/right_hand.xml");
-    assert!(path.exists(), "the Menagerie snapshot is expected at {}", path.display());
-    check("allegro_right", path);
+    check("allegro_right", dir().join("menagerie/wonik_allegro/right_hand.xml"));
 }
 
 /// Fixed tendons (`tools/mjcf_fixtures.py --tendons`): a tendon with a spring and damper from a
