@@ -394,3 +394,38 @@ fn convex_and_compound_bodies_are_drawn_part_by_part() {
     assert_eq!(parts[1]["position"], serde_json::json!([0.5, 0, 0]));
     assert_eq!(parts[2]["orientation"], serde_json::json!([0.70710677, 0, 0.70710677, 0]));
 }
+
+/// `tumble run X.xml --view` draws the MJCF world's geometry: the floor, and each link of the
+/// Gymnasium Ant with its geoms placed as the file places them (the torso's sphere, a leg's capsule
+/// from `fromto`: centred halfway, its axis along `from − to`, half length half the distance).
+#[test]
+fn the_replay_draws_an_mjcf_worlds_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tumble/tests/fixtures/mjcf/gymnasium/ant.xml");
+    tumble(dir.path())
+        .args(["run", ant.to_str().unwrap(), "--duration", "0.1", "--out", "ant.csv", "--view", "ant.html", "-q"])
+        .assert()
+        .success();
+    let data = data_of(&fs::read_to_string(dir.path().join("ant.html")).unwrap());
+    let bodies = data["bodies"].as_array().unwrap();
+    let named = |name: &str| bodies.iter().find(|b| b["name"] == name).unwrap_or_else(|| panic!("no {name}: {bodies:?}"));
+    assert_eq!(named("floor")["parts"][0]["geometry"]["type"], "plane");
+    let torso = &named("ant/torso")["parts"][0]["geometry"];
+    assert_eq!((torso["type"].as_str(), torso["radius"].as_f64()), (Some("sphere"), Some(0.25)));
+    // aux_1_geom: fromto="0 0 0 0.2 0.2 0", size 0.08
+    let part = &named("ant/front_left_leg")["parts"][0];
+    let g = &part["geometry"];
+    assert_eq!((g["type"].as_str(), g["radius"].as_f64()), (Some("capsule"), Some(0.08)));
+    let f = |v: &Value| v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<f64>>();
+    assert!((g["half_height"].as_f64().unwrap() - 0.1 * 2f64.sqrt()).abs() < 1e-6, "{g}");
+    let p = f(&part["position"]);
+    assert!((p[0] - 0.1).abs() < 1e-6 && (p[1] - 0.1).abs() < 1e-6 && p[2].abs() < 1e-6, "{p:?}");
+    // the capsule's axis, the z axis of [w, x, y, z]: along ±(1, 1, 0)/√2
+    let [w, x, y, z] = f(&part["orientation"])[..] else { panic!("a quaternion") };
+    let axis = [2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)];
+    let s = 0.5f64.sqrt();
+    assert!((axis[0].abs() - s).abs() < 1e-6 && (axis[1] - axis[0]).abs() < 1e-6 && axis[2].abs() < 1e-6, "{axis:?}");
+    // every moving link of the Ant is drawn with its geom
+    let links = bodies.iter().filter(|b| b["robot"] == "ant" && !b["index"].is_null()).count();
+    assert_eq!(links, 13);
+}

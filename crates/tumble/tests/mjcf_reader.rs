@@ -148,12 +148,31 @@ fn malformed_input_names_its_position() {
 #[test]
 fn soft_contact_parameters_are_reported_once() {
     let text =
-        model("<joint/><geom size=\"0.1\" solref=\"0.02 1\" margin=\"0.01\"/><geom size=\"0.1\" solref=\"0.01 1\"/>");
+        model("<joint/><geom size=\"0.1\" solref=\"0.02 1\" margin=\"0.01\"/><geom size=\"0.1\" solref=\"0.01 1\" \
+               solimp=\"0.9 0.95 0.001\"/><geom size=\"0.1\" solimp=\"0.8 0.9 0.001\"/>");
     let m = parse(&text).unwrap();
+    let solimp = m.model.warnings.iter().filter(|w| w.contains("<geom solimp>")).count();
+    assert_eq!(solimp, 1, "{:?}", m.model.warnings);
     let solref: Vec<&String> = m.model.warnings.iter().filter(|w| w.contains("<geom solref>")).collect();
     assert_eq!(solref.len(), 1, "{:?}", m.model.warnings);
     assert!(solref[0].starts_with("test.xml:5:26:"), "{}", solref[0]);
     assert!(m.model.warnings.iter().any(|w| w.contains("<geom margin>")), "{:?}", m.model.warnings);
+}
+
+/// The first Rust example of docs/mjcf.md, as written there (its path, relative to the repository
+/// root there, made absolute here: the tests share one working directory).
+#[test]
+fn the_docs_first_example_runs() -> Result<(), Box<dyn std::error::Error>> {
+    let ant = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mjcf/gymnasium/ant.xml");
+    let mjcf = load_mjcf(&ant, MjcfOptions::default())?;
+    // MuJoCo's qpos (15: free joint position, quaternion w-first, 8 hinges) and qvel (14)
+    let mut qpos = vec![0.0; 15];
+    (qpos[2], qpos[3]) = (0.75, 1.0);
+    let qvel = vec![0.0; 14];
+    let (q, v) = mjcf.layout.state_from_mujoco(&qpos, &qvel)?; // MuJoCo's state → tumble's
+    assert_eq!((q.len(), v.len()), (15, 14));
+    assert_eq!(&q[..4], &[0.0, 0.0, 0.75, 1.0]);
+    Ok(())
 }
 
 #[test]
