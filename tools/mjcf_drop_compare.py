@@ -16,7 +16,7 @@ the robot (tumble: `World.contacts()`; MuJoCo: `mj_contactForce`), the deepest p
 tumble's mechanical energy. Trajectories are expected to differ once contacts act (MuJoCo's
 contacts are soft, tumble's are impulses with Coulomb friction); the figures show how they compare.
 
-Checks (tumble, zero control): no NaN, the deepest penetration under 2 mm after the landing, and
+Checks (tumble, zero control): no NaN, the deepest penetration under 2 mm over the whole run (the landing included), and
 the mechanical energy never above its lowest value so far (a passive system only loses energy), to
 1e-6 J: the robot's `energy()` plus what the springs of its soft contact and limit rows store
 (`contact_elastic_energy()`), which they give back as an overlap or an overshoot shrinks.
@@ -76,8 +76,7 @@ def run(name, seconds, sinus):
             break
         contacts = tw.contacts()
         depth_t = max([c["depth"] for c in contacts], default=0.0)
-        if k * tm.dt > 1.0:
-            worst["depth"] = max(worst["depth"], depth_t)
+        worst["depth"] = max(worst["depth"], depth_t)
         if not sinus:
             # a rise above the lowest energy so far: energy gained
             e = tw.energy() + tw.contact_elastic_energy()
@@ -106,7 +105,7 @@ def main():
             if not sinus:
                 good = not w["nan"] and w["depth"] < 2e-3 and w["energy_rise"] <= 1e-6
                 ok &= good
-                print(f"  checks: NaN {w['nan']}, deepest after 1 s {w['depth'] * 1e3:.3f} mm (< 2), "
+                print(f"  checks: NaN {w['nan']}, deepest over the run {w['depth'] * 1e3:.3f} mm (< 2), "
                       f"largest energy gain {w['energy_rise']:.2e} J (≤ 1e-6): {'ok' if good else 'FAILED'}")
     sys.exit(0 if ok else 1)
 
