@@ -408,7 +408,8 @@ fn the_replay_draws_an_mjcf_worlds_geometry() {
         .success();
     let data = data_of(&fs::read_to_string(dir.path().join("ant.html")).unwrap());
     let bodies = data["bodies"].as_array().unwrap();
-    let named = |name: &str| bodies.iter().find(|b| b["name"] == name).unwrap_or_else(|| panic!("no {name}: {bodies:?}"));
+    let named =
+        |name: &str| bodies.iter().find(|b| b["name"] == name).unwrap_or_else(|| panic!("no {name}: {bodies:?}"));
     assert_eq!(named("floor")["parts"][0]["geometry"]["type"], "plane");
     let torso = &named("ant/torso")["parts"][0]["geometry"];
     assert_eq!((torso["type"].as_str(), torso["radius"].as_f64()), (Some("sphere"), Some(0.25)));

@@ -147,9 +147,10 @@ fn malformed_input_names_its_position() {
 
 #[test]
 fn soft_contact_parameters_are_reported_once() {
-    let text =
-        model("<joint/><geom size=\"0.1\" solref=\"0.02 1\" margin=\"0.01\"/><geom size=\"0.1\" solref=\"0.01 1\" \
-               solimp=\"0.9 0.95 0.001\"/><geom size=\"0.1\" solimp=\"0.8 0.9 0.001\"/>");
+    let text = model(
+        "<joint/><geom size=\"0.1\" solref=\"0.02 1\" margin=\"0.01\"/><geom size=\"0.1\" solref=\"0.01 1\" \
+               solimp=\"0.9 0.95 0.001\"/><geom size=\"0.1\" solimp=\"0.8 0.9 0.001\"/>",
+    );
     let m = parse(&text).unwrap();
     let solimp = m.model.warnings.iter().filter(|w| w.contains("<geom solimp>")).count();
     assert_eq!(solimp, 1, "{:?}", m.model.warnings);
