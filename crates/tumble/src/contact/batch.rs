@@ -38,7 +38,7 @@
 //! and [`LaneSolver::warm_start_batches`] take a range of batches, which a parallel loop could split
 //! (fixed bodies are read, never written).
 
-use super::solver::{solve_pair, warm_start_pair, Constraint, Pass, SolverBody, Sweep};
+use super::solver::{solve_pair, warm_start_pair, Constraint, ContactPoint, Manifold, Pass, SolverBody, Sweep};
 use crate::integrate::lanes::{SolveLanes, V3};
 use crate::math::DVec3;
 use std::ops::Range;
@@ -395,11 +395,161 @@ fn sweep_in<L: SolveLanes, const RELAX: bool>(
     }
 }
 
+/// What [`LaneSolver::build_points`] loads the slots from.
+pub(super) struct PointInput<'a> {
+    manifolds: &'a [Manifold],
+    points: &'a [ContactPoint],
+    bodies: &'a [SolverBody],
+    positions: &'a [DVec3],
+}
+
+/// The point of a padding lane: a unit normal, so that its arithmetic stays finite (its results are
+/// replaced by zeros).
+const INERT_POINT: ContactPoint = ContactPoint { point: DVec3::ZERO, n: DVec3::Z, gap: 0.0, lambda: [0.0; 3] };
+
+/// `ã`, the cross-product matrix of `a` by columns, as [`crate::math::skew`].
+#[inline(always)]
+fn skew<L: SolveLanes>(a: V3<L>) -> [V3<L>; 3] {
+    let zero = L::splat(0.0);
+    [V3 { x: zero, y: a.z, z: a.y.neg() }, V3 { x: a.z.neg(), y: zero, z: a.x }, V3 { x: a.y, y: a.x.neg(), z: zero }]
+}
+
+/// `A B` of columns, as `DMat3 * DMat3` (each column `A b_j` by [`mat_vec`]).
+#[inline(always)]
+fn mat_mat<L: SolveLanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> [V3<L>; 3] {
+    [mat_vec(a, b[0]), mat_vec(a, b[1]), mat_vec(a, b[2])]
+}
+
+/// Four lanes of the scalars `f(0)…f(3)`.
+#[inline(always)]
+fn lanes_of<L: SolveLanes>(f: impl Fn(usize) -> f64) -> L {
+    L::new([f(0), f(1), f(2), f(3)])
+}
+
+/// `x` in the lanes of the mask `valid`, zero in the others.
+#[inline(always)]
+fn keep<L: SolveLanes>(valid: L, x: L) -> L {
+    valid.select(x, L::splat(0.0))
+}
+
+#[inline(always)]
+fn keep3<L: SolveLanes>(valid: L, v: V3<L>) -> V3<L> {
+    V3 { x: keep(valid, v.x), y: keep(valid, v.y), z: keep(valid, v.z) }
+}
+
+/// The world inverse inertias of `bodies[side[k]]` by columns (zero for [`NONE`]).
+#[inline(always)]
+fn inv_inertia4<L: SolveLanes>(bodies: &[SolverBody], side: &[usize; LANES]) -> [V3<L>; 3] {
+    let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
+    [
+        V3::gather(|k| body(side[k]).inv_inertia.x_axis),
+        V3::gather(|k| body(side[k]).inv_inertia.y_axis),
+        V3::gather(|k| body(side[k]).inv_inertia.z_axis),
+    ]
+}
+
+/// The slots of `batches` computed from their points in lanes `L`: [`Constraint::new`] for four
+/// points at once, operation for operation (so the same bits as [`Slot::load`] of the scalar
+/// constraints), zeros in the lanes without a point, the separations measured at the bodies'
+/// current motion. (No closure here makes lanes: a closure does not inherit the caller's
+/// `target_feature`.)
+#[inline(always)]
+fn load_points_in<L: SolveLanes>(
+    batches: &[Batch],
+    slot_index: &[[usize; LANES]],
+    slots: &mut [Slot<L>],
+    input: &PointInput,
+) {
+    let zero = L::splat(0.0);
+    let all = f64::from_bits(u64::MAX);
+    let bodies = input.bodies;
+    for batch in batches {
+        // the bodies and the manifold of each lane: the same for all the batch's slots
+        let (inertia_a, inertia_b) = (inv_inertia4::<L>(bodies, &batch.a), inv_inertia4::<L>(bodies, &batch.b));
+        let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
+        let position = |i: usize| if i == NONE { DVec3::ZERO } else { input.positions[i] };
+        let inv_mass = lanes_of::<L>(|k| body(batch.a[k]).inv_mass) + lanes_of::<L>(|k| body(batch.b[k]).inv_mass);
+        let center_a = V3::<L>::gather(|k| position(batch.a[k]));
+        let center_b = V3::<L>::gather(|k| position(batch.b[k]));
+        let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
+        let mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
+        let bias_rate = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.bias_rate));
+        let mass_scale = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.mass_scale));
+        let impulse_scale = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.impulse_scale));
+        let (ma, mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
+        let range = batch.slots.0..batch.slots.1;
+        for (slot, index) in slots[range.clone()].iter_mut().zip(&slot_index[range]) {
+            let p = |k: usize| if index[k] == NONE { &INERT_POINT } else { &input.points[index[k]] };
+            let valid = lanes_of::<L>(|k| if index[k] == NONE { 0.0 } else { all });
+            let n = V3::<L>::gather(|k| p(k).n);
+            let point = V3::<L>::gather(|k| p(k).point);
+            let gap = lanes_of::<L>(|k| p(k).gap);
+            let (r_a, r_b) = (point.sub(center_a), point.sub(center_b));
+            // K = (1/m_a + 1/m_b) 1 − r̃_b I_b⁻¹ r̃_b − r̃_a I_a⁻¹ r̃_a (`impact::collision_matrix`)
+            let (sa, sb) = (skew(r_a), skew(r_b));
+            let kb = mat_mat(&mat_mat(&sb, &inertia_b), &sb);
+            let ka = mat_mat(&mat_mat(&sa, &inertia_a), &sa);
+            let k = [
+                V3 { x: inv_mass, y: zero, z: zero }.sub(kb[0]).sub(ka[0]),
+                V3 { x: zero, y: inv_mass, z: zero }.sub(kb[1]).sub(ka[1]),
+                V3 { x: zero, y: zero, z: inv_mass }.sub(kb[2]).sub(ka[2]),
+            ];
+            // the tangents, as `impact::tangent_basis` (glam's `any_orthonormal_vector`)
+            let sign = lanes_of::<L>(|k| p(k).n.z.signum());
+            let a = L::splat(-1.0) / (sign + n.z);
+            let b = n.x * n.y * a;
+            let t1 = V3 { x: b, y: sign + n.y * n.y * a, z: n.y.neg() };
+            let t2 = n.cross(t1);
+            let k_n = mat_vec(&k, n);
+            let knn = n.dot(k_n);
+            let k11 = t1.dot(mat_vec(&k, t1));
+            let k12 = t1.dot(mat_vec(&k, t2));
+            let k22 = t2.dot(mat_vec(&k, t2));
+            let det = k11 * k22 - k12 * k12;
+            let invertible = valid & det.gt(zero);
+            let cross_mass = keep(invertible, k12.neg() / det);
+            slot.r_a = keep3(valid, r_a);
+            slot.r_b = keep3(valid, r_b);
+            slot.n = keep3(valid, n);
+            slot.t1 = keep3(valid, t1);
+            slot.t2 = keep3(valid, t2);
+            slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
+            slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
+            slot.k_n = keep3(valid, k_n);
+            slot.tangent_mass = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+            slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
+            slot.ang_a = [
+                keep3(valid, mat_vec(&inertia_a, r_a.cross(n))),
+                keep3(valid, mat_vec(&inertia_a, r_a.cross(t1))),
+                keep3(valid, mat_vec(&inertia_a, r_a.cross(t2))),
+            ];
+            slot.ang_b = [
+                keep3(valid, mat_vec(&inertia_b, r_b.cross(n))),
+                keep3(valid, mat_vec(&inertia_b, r_b.cross(t1))),
+                keep3(valid, mat_vec(&inertia_b, r_b.cross(t2))),
+            ];
+            slot.mu = keep(valid, mu);
+            slot.bias_rate = keep(valid, bias_rate);
+            slot.mass_scale = keep(valid, mass_scale);
+            slot.impulse_scale = keep(valid, impulse_scale);
+            slot.speculative = keep(valid, gap.gt(zero));
+            slot.valid = valid;
+            slot.lambda = [
+                keep(valid, lanes_of::<L>(|k| p(k).lambda[0])),
+                keep(valid, lanes_of::<L>(|k| p(k).lambda[1])),
+                keep(valid, lanes_of::<L>(|k| p(k).lambda[2])),
+            ];
+            slot.lambda_sum = [zero; 3];
+            slot.separation = slot.measure(&ma, &mb);
+        }
+    }
+}
+
 /// The sweeps compiled for AVX2, in [`Avx`] lanes, on the slots stored as `wide::f64x4`.
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
-    use super::{sweep_in, warm_start_in, Batch, Slot, SolverBody, Sweep};
+    use super::{load_points_in, sweep_in, warm_start_in, Batch, PointInput, Slot, SolverBody, Sweep, LANES};
     use crate::integrate::lanes::Avx;
     use wide::f64x4;
 
@@ -412,6 +562,16 @@ mod avx {
     pub(super) fn slots(slots: &mut [Slot<f64x4>]) -> &mut [Slot<Avx>] {
         // SAFETY: same size, alignment and field layout (above); the borrow is handed on
         unsafe { std::slice::from_raw_parts_mut(slots.as_mut_ptr().cast::<Slot<Avx>>(), slots.len()) }
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn load_points(
+        batches: &[Batch],
+        slot_index: &[[usize; LANES]],
+        slots: &mut [Slot<Avx>],
+        input: &PointInput,
+    ) {
+        load_points_in::<Avx>(batches, slot_index, slots, input);
     }
 
     #[target_feature(enable = "avx2")]
@@ -433,6 +593,9 @@ mod avx {
 /// Four manifolds of one colour: their bodies and their point slots.
 #[derive(Debug, Clone, Copy)]
 pub struct Batch {
+    /// The manifold of each lane ([`NONE`] for an empty lane), an index of the `groups` given to
+    /// [`LaneSolver::build`] or the manifolds given to [`LaneSolver::build_points`].
+    manifold: [usize; LANES],
     a: [usize; LANES],
     b: [usize; LANES],
     /// Whether lane `k`'s body `a` (`b`) moves: only those are written back.
@@ -462,8 +625,11 @@ pub struct LaneSolver {
     slots: Vec<Slot<f64x4>>,
     /// The constraint of each lane of each slot ([`NONE`] for padding).
     slot_index: Vec<[usize; LANES]>,
-    /// Manifolds (ranges of the constraints) solved one at a time after the colours.
+    /// Manifolds (ranges of the constraints given to [`solve`](LaneSolver::solve)) solved one at a
+    /// time after the colours.
     overflow: Vec<(usize, usize)>,
+    /// The first point of each overflow manifold among the points (groups' ranges) of the build.
+    overflow_points: Vec<usize>,
     /// Whether the sweeps run in AVX registers (the CPU has AVX2, found at [`build`](Self::build)).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx: bool,
@@ -475,7 +641,8 @@ pub struct LaneSolver {
 impl LaneSolver {
     /// Colours the manifolds `groups` (ranges of `constraints`, each of one pair of bodies, in pair
     /// order) and loads their constraints into batches, measuring their separations at the
-    /// positions of `bodies`; `moving(i)` whether body `i` moves.
+    /// positions of `bodies`; `moving(i)` whether body `i` moves. The overflow's manifolds are solved
+    /// on `constraints` (the same slice is given to [`solve`](Self::solve) and the other passes).
     pub fn build(
         &mut self,
         groups: &[(usize, usize)],
@@ -483,11 +650,91 @@ impl LaneSolver {
         bodies: &[SolverBody],
         moving: impl Fn(usize) -> bool,
     ) {
+        let pair = |g: usize| (constraints[groups[g].0].a, constraints[groups[g].0].b);
+        self.layout(groups.len(), |g| groups[g], pair, bodies.len(), &moving);
+        self.overflow.clear();
+        self.overflow_points.clear();
+        for &g in &self.order[self.colour_start[COLOURS]..] {
+            self.overflow.push(groups[g]);
+            self.overflow_points.push(groups[g].0);
+        }
+        self.slots.clear();
+        for batch in &self.batches {
+            let (ma, mb) = (Motion4::gather(bodies, &batch.a), Motion4::gather(bodies, &batch.b));
+            for index in &self.slot_index[batch.slots.0..batch.slots.1] {
+                self.slots.push(Slot::default());
+                self.slots.last_mut().expect("pushed").load(constraints, index, &ma, &mb);
+            }
+        }
+    }
+
+    /// [`build`](Self::build) straight from the manifolds and their points, with the constraints
+    /// of the colours' manifolds computed in the lanes (the arithmetic of [`Constraint::new`],
+    /// operation for operation: the same slots bit for bit, no `Constraint` made); `positions` the
+    /// bodies' centres of mass (m). The overflow's manifolds are made into `overflow` as
+    /// [`Constraint`]s, which are then the constraints to give to [`solve`](Self::solve) and the
+    /// other passes.
+    #[allow(unsafe_code)]
+    pub fn build_points(
+        &mut self,
+        manifolds: &[Manifold],
+        points: &[ContactPoint],
+        bodies: &[SolverBody],
+        positions: &[DVec3],
+        moving: impl Fn(usize) -> bool,
+        overflow: &mut Vec<Constraint>,
+    ) {
+        self.layout(
+            manifolds.len(),
+            |g| manifolds[g].points,
+            |g| (manifolds[g].a, manifolds[g].b),
+            bodies.len(),
+            &moving,
+        );
+        overflow.clear();
+        self.overflow.clear();
+        self.overflow_points.clear();
+        for &g in &self.order[self.colour_start[COLOURS]..] {
+            let m = &manifolds[g];
+            let start = overflow.len();
+            for p in &points[m.points.0..m.points.1] {
+                let mut k = Constraint::new(bodies, positions, m.a, m.b, p.point, p.n, p.gap, m.mu, m.softness);
+                k.lambda = p.lambda;
+                overflow.push(k);
+            }
+            self.overflow.push((start, overflow.len()));
+            self.overflow_points.push(m.points.0);
+        }
+        // every field of every slot is written below: the slots of the last step are overwritten,
+        // not zeroed first
+        let count = self.slot_index.len();
+        if self.slots.len() != count {
+            self.slots.resize(count, Slot::default());
+        }
+        let input = PointInput { manifolds, points, bodies, positions };
+        #[cfg(target_arch = "x86_64")]
+        if self.avx {
+            // SAFETY: `layout` found AVX2 on this CPU
+            return unsafe { avx::load_points(&self.batches, &self.slot_index, avx::slots(&mut self.slots), &input) };
+        }
+        load_points_in::<f64x4>(&self.batches, &self.slot_index, &mut self.slots, &input);
+    }
+
+    /// The colours, the batches and the slots' points of `count` manifolds, manifold `g` being the
+    /// points `range(g)` between the bodies `pair(g)` (in pair order); `moving(i)` whether body `i`
+    /// moves. Leaves the slots' contents to the caller.
+    fn layout(
+        &mut self,
+        count: usize,
+        range: impl Fn(usize) -> (usize, usize),
+        pair: impl Fn(usize) -> (usize, usize),
+        body_count: usize,
+        moving: &impl Fn(usize) -> bool,
+    ) {
         #[cfg(target_arch = "x86_64")]
         {
             self.avx = !self.portable && std::arch::is_x86_feature_detected!("avx2");
         }
-        let body_count = bodies.len();
         let words = body_count.div_ceil(64);
         self.colour_bodies.clear();
         self.colour_bodies.resize(COLOURS * words, 0);
@@ -495,8 +742,8 @@ impl LaneSolver {
         self.last.clear();
         self.last.resize(body_count, NONE);
         let mut counts = [0usize; COLOURS + 1];
-        for &(s, _) in groups {
-            let (a, b) = (constraints[s].a, constraints[s].b);
+        for g in 0..count {
+            let (a, b) = pair(g);
             let (move_a, move_b) = (moving(a), moving(b));
             let taken = |bits: &[u64], i: usize| bits[i / 64] & (1 << (i % 64)) != 0;
             // after the colours of the bodies' earlier manifolds, so that each body meets its
@@ -532,7 +779,7 @@ impl LaneSolver {
         }
         self.colour_start.push(start);
         self.order.clear();
-        self.order.resize(groups.len(), 0);
+        self.order.resize(count, 0);
         let mut next = counts;
         let mut at = 0;
         for (c, n) in next.iter_mut().enumerate() {
@@ -545,54 +792,53 @@ impl LaneSolver {
             self.order[next[c]] = g;
             next[c] += 1;
         }
-        self.overflow.clear();
-        self.overflow.extend(self.order[self.colour_start[COLOURS]..].iter().map(|&g| groups[g]));
 
         // within a colour the manifolds share no moving body, so their order there changes no bit:
         // by number of points (then pair order), so that a batch's four have as many points as
         // possible alike and few slots are padding (the pyramid's 4- and 6-point manifolds)
+        let points = |g: usize| {
+            let (s, e) = range(g);
+            e - s
+        };
         for c in 0..COLOURS {
-            self.order[self.colour_start[c]..self.colour_start[c + 1]]
-                .sort_unstable_by_key(|&g| (groups[g].1 - groups[g].0, g));
+            self.order[self.colour_start[c]..self.colour_start[c + 1]].sort_unstable_by_key(|&g| (points(g), g));
         }
         // batches of four manifolds per colour, slot j holding the j-th point of each
         self.batches.clear();
         self.batch_start.clear();
-        self.slots.clear();
         self.slot_index.clear();
         for c in 0..COLOURS {
             self.batch_start.push(self.batches.len());
             let members = &self.order[self.colour_start[c]..self.colour_start[c + 1]];
             for chunk in members.chunks(LANES) {
+                let first = self.slot_index.len();
                 let mut batch = Batch {
+                    manifold: [NONE; LANES],
                     a: [NONE; LANES],
                     b: [NONE; LANES],
                     moving_a: [false; LANES],
                     moving_b: [false; LANES],
-                    slots: (self.slots.len(), self.slots.len()),
+                    slots: (first, first),
                 };
-                let mut points = 0;
+                let mut most = 0;
                 for (k, &g) in chunk.iter().enumerate() {
-                    let (s, e) = groups[g];
-                    let (a, b) = (constraints[s].a, constraints[s].b);
+                    let (a, b) = pair(g);
+                    batch.manifold[k] = g;
                     (batch.a[k], batch.b[k]) = (a, b);
                     (batch.moving_a[k], batch.moving_b[k]) = (moving(a), moving(b));
-                    points = points.max(e - s);
+                    most = most.max(points(g));
                 }
-                let (ma, mb) = (Motion4::gather(bodies, &batch.a), Motion4::gather(bodies, &batch.b));
-                for j in 0..points {
+                for j in 0..most {
                     let mut index = [NONE; LANES];
                     for (k, &g) in chunk.iter().enumerate() {
-                        let (s, e) = groups[g];
+                        let (s, e) = range(g);
                         if s + j < e {
                             index[k] = s + j;
                         }
                     }
-                    self.slots.push(Slot::default());
-                    self.slots.last_mut().expect("pushed").load(constraints, &index, &ma, &mb);
                     self.slot_index.push(index);
                 }
-                batch.slots.1 = self.slots.len();
+                batch.slots.1 = self.slot_index.len();
                 self.batches.push(batch);
             }
         }
@@ -697,6 +943,37 @@ impl LaneSolver {
                 if i != NONE {
                     sums[i] = [l[0][k], l[1][k], l[2][k]];
                 }
+            }
+        }
+    }
+
+    /// Each point of [`build_points`](Self::build_points) with its tangents, its accumulated
+    /// impulses and their sum over the substeps: `f(point, t1, t2, λ, Σλ)` (indices of the points
+    /// given to the build); `constraints` and `sums` the overflow's, as given to the passes.
+    pub fn for_each_point(
+        &self,
+        constraints: &[Constraint],
+        sums: &[[f64; 3]],
+        mut f: impl FnMut(usize, DVec3, DVec3, [f64; 3], [f64; 3]),
+    ) {
+        for (slot, index) in self.slots.iter().zip(&self.slot_index) {
+            let l = slot.lambda.map(|x| x.to_array());
+            let sum = slot.lambda_sum.map(|x| x.to_array());
+            for (k, &i) in index.iter().enumerate() {
+                if i != NONE {
+                    f(
+                        i,
+                        slot.t1.lane(k),
+                        slot.t2.lane(k),
+                        [l[0][k], l[1][k], l[2][k]],
+                        [sum[0][k], sum[1][k], sum[2][k]],
+                    );
+                }
+            }
+        }
+        for (&(s, e), &first) in self.overflow.iter().zip(&self.overflow_points) {
+            for (j, (k, sum)) in constraints[s..e].iter().zip(&sums[s..e]).enumerate() {
+                f(first + j, k.t1, k.t2, k.lambda, *sum);
             }
         }
     }
@@ -1012,6 +1289,126 @@ mod tests {
             assert!(n >= 50, "{name} taken {n} times");
         }
         assert!(overflowed > 0);
+    }
+
+    /// The slots computed in the lanes from the manifolds and their points are those loaded from
+    /// the scalar [`Constraint::new`] of the same points, bit for bit, every field and lane, with
+    /// either kernel; so are the overflow's constraints; and [`LaneSolver::for_each_point`] gives
+    /// every point once, with its constraint's tangents and impulses.
+    #[test]
+    fn slots_computed_in_lanes_are_the_scalar_constraints() {
+        for portable in [true, false] {
+            for seed in 1..=12u64 {
+                let mut rng = Rng(0x51_7cc1_b727_220a ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+                let (count, hub) = (30 + (seed as usize % 4) * 8, 1 + seed as usize % 3);
+                let (bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
+                let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
+                let mut pairs: Vec<(usize, usize)> = Vec::new();
+                while pairs.len() < 3 * count {
+                    let (a, b) = ((rng.next() % count as u64) as usize, (rng.next() % count as u64) as usize);
+                    if a < b && moving[b] && !pairs.contains(&(a, b)) {
+                        pairs.push((a, b));
+                    }
+                }
+                // a hub in more pairs than there are colours: some manifolds overflow
+                pairs.extend((0..count).filter(|&i| i != hub).map(|i| (i.min(hub), i.max(hub))));
+                pairs.sort();
+                pairs.dedup();
+                let (mut manifolds, mut points, mut constraints, mut groups) = (vec![], vec![], vec![], vec![]);
+                for (a, b) in pairs {
+                    let start = points.len();
+                    let mu = [0.0, 0.3, 1.0][(rng.next() % 3) as usize];
+                    let softness = Softness::new([0.0, 60.0, 120.0][(rng.next() % 3) as usize], 10.0, 1.0 / 360.0);
+                    // normals of both signs of z, and along the axes (z = ±0)
+                    let n = match rng.next() % 6 {
+                        0 => DVec3::X,
+                        1 => DVec3::new(0.0, -1.0, -0.0),
+                        2 => -DVec3::Z,
+                        _ => rng.unit(),
+                    };
+                    for _ in 0..1 + (rng.next() % 6) as usize {
+                        let point = 0.5 * (positions[a] + positions[b]) + rng.vec(0.5);
+                        let gap = rng.range(-0.02, 0.01);
+                        let lambda = if rng.next() % 2 == 0 {
+                            [rng.range(0.0, 2.0), rng.range(-1.0, 1.0), 0.5]
+                        } else {
+                            [0.0; 3]
+                        };
+                        points.push(ContactPoint { point, n, gap, lambda });
+                        let mut k = Constraint::new(&bodies, &positions, a, b, point, n, gap, mu, softness);
+                        k.lambda = lambda;
+                        constraints.push(k);
+                    }
+                    manifolds.push(Manifold { a, b, points: (start, points.len()), mu, softness });
+                    groups.push((start, points.len()));
+                }
+                let mut scalar = LaneSolver { portable, ..LaneSolver::default() };
+                scalar.build(&groups, &constraints, &bodies, |i| moving[i]);
+                let mut lanes = LaneSolver { portable, ..LaneSolver::default() };
+                let mut overflow = Vec::new();
+                // twice, the second over the first's slots (they are overwritten, not cleared)
+                for _ in 0..2 {
+                    lanes.build_points(&manifolds, &points, &bodies, &positions, |i| moving[i], &mut overflow);
+                }
+                assert_eq!(scalar.slot_index, lanes.slot_index);
+                assert_eq!(scalar.slots.len(), lanes.slots.len());
+                const WORDS: usize = size_of::<Slot<f64x4>>() / 8;
+                let bits = |slot: &Slot<f64x4>| {
+                    let mut out = [0u64; WORDS];
+                    let lanes: [f64x4; WORDS / 4] = slot_lanes(slot);
+                    for (j, l) in lanes.iter().enumerate() {
+                        for (k, x) in l.to_array().iter().enumerate() {
+                            out[4 * j + k] = x.to_bits();
+                        }
+                    }
+                    out
+                };
+                for (i, (x, y)) in scalar.slots.iter().zip(&lanes.slots).enumerate() {
+                    assert!(bits(x) == bits(y), "seed {seed}, portable {portable}: slot {i}\n{x:?}\n{y:?}");
+                }
+                assert!(lanes.colours_used().1 > 0, "seed {seed}: no overflow");
+                let mut seen = vec![0; points.len()];
+                lanes.for_each_point(&overflow, &vec![[0.0; 3]; overflow.len()], |i, t1, t2, lambda, _| {
+                    seen[i] += 1;
+                    let k = &constraints[i];
+                    assert!(t1 == k.t1 && t2 == k.t2 && lambda == k.lambda, "point {i}");
+                });
+                assert!(seen.iter().all(|&n| n == 1));
+                for (&(s, e), &first) in lanes.overflow.iter().zip(&lanes.overflow_points) {
+                    for (j, k) in overflow[s..e].iter().enumerate() {
+                        let c = &constraints[first + j];
+                        assert!(
+                            k.r_a == c.r_a
+                                && k.ang_b == c.ang_b
+                                && k.tangent_mass == c.tangent_mass
+                                && k.lambda == c.lambda
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A slot as its fields' lanes in order (`Slot` is `repr(C)` over `f64x4` fields only).
+    fn slot_lanes<const N: usize>(slot: &Slot<f64x4>) -> [f64x4; N] {
+        let s = slot;
+        let mut out = [f64x4::splat(0.0); N];
+        let fields: Vec<f64x4> = [
+            [s.r_a.x, s.r_a.y, s.r_a.z, s.r_b.x, s.r_b.y, s.r_b.z].as_slice(),
+            &[s.n.x, s.n.y, s.n.z, s.t1.x, s.t1.y, s.t1.z, s.t2.x, s.t2.y, s.t2.z],
+            &[s.adjusted_gap, s.normal_mass, s.k_n.x, s.k_n.y, s.k_n.z],
+            &s.tangent_mass,
+            &s.tangent_k,
+            &s.ang_a.iter().chain(&s.ang_b).flat_map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),
+            &[s.mu, s.bias_rate, s.mass_scale, s.impulse_scale, s.speculative, s.valid],
+            &s.lambda,
+            &[s.separation],
+            &s.lambda_sum,
+        ]
+        .concat();
+        assert_eq!(fields.len(), N);
+        out.copy_from_slice(&fields);
+        out
     }
 
     /// The colouring: no two manifolds of a colour share a moving body, every manifold is once in the

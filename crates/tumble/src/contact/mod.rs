@@ -42,7 +42,7 @@ pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
 use crate::body::RigidBody;
 use crate::collision::{Colliders, Contact};
 use crate::math::{quat_exp, DMat3, DQuat, DVec3};
-use solver::{Constraint, SolverBody};
+use solver::{Constraint, ContactPoint, Manifold, SolverBody};
 
 /// Contact settings, the contact keys of `[world]`. Units SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -157,14 +157,19 @@ pub struct ContactStage {
     /// The impulse on body `b` of each contact over the step, impacts and resting contact,
     /// world frame (N·s); aligned with `contacts`.
     impulses: Vec<DVec3>,
-    /// Each constraint's accumulated impulses `λ_n, λ_t1, λ_t2` summed over the substeps (N·s).
+    /// Each overflow constraint's accumulated impulses `λ_n, λ_t1, λ_t2` summed over the substeps
+    /// (N·s); aligned with `constraints`.
     lambda_sums: Vec<[f64; 3]>,
     bodies: Vec<SolverBody>,
     positions: Vec<DVec3>,
     predicted: Vec<(DVec3, DVec3)>,
+    /// The constraints of the manifolds the colours could not take (`batch`'s overflow), solved
+    /// one at a time.
     constraints: Vec<Constraint>,
-    /// The constraints of each pair of bodies, as ranges of `constraints`.
-    groups: Vec<(usize, usize)>,
+    /// The resting solver's input: the manifolds of the contacts that are not frozen (ranges of
+    /// `points`), in pair order.
+    manifolds: Vec<Manifold>,
+    points: Vec<ContactPoint>,
     /// The pairs' colours and the constraints in `f64x4` lanes (the free bodies' solve).
     lanes: batch::LaneSolver,
     /// End-of-step position shift (m) and rotation vector (rad) per body, world frame.
@@ -186,7 +191,7 @@ pub struct ContactStage {
     lambdas: Vec<[f64; 3]>,
     /// Per contact: both bodies fixed or asleep (kept from when they fell asleep, not solved).
     frozen: Vec<bool>,
-    /// The contact of each constraint (the contacts that are not frozen).
+    /// The contact of each point of `points` (the contacts that are not frozen).
     constrained: Vec<usize>,
     /// The narrow phase's contacts, before the frozen ones are merged in.
     fresh: Vec<Contact>,
@@ -565,35 +570,30 @@ impl ContactStage {
         // the velocities after the collisions
         self.predicted.clear();
         self.predicted.extend(self.bodies.iter().map(|sb| (sb.v, sb.w)));
-        self.constraints.clear();
+        // the manifolds (the contacts come grouped by pair: `Colliders::find_contacts`) and their
+        // points with the impulses they start from
+        self.manifolds.clear();
+        self.points.clear();
         self.constrained.clear();
         let mut warm = WarmStarts::new(&self.previous);
         for (ci, c) in self.contacts.iter().enumerate() {
             if self.frozen[ci] {
                 continue;
             }
-            self.constrained.push(ci);
-            let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
-            let softness = if bodies[c.a].fixed || bodies[c.b].fixed { soft_fixed } else { soft };
-            let mut k = Constraint::new(
-                &self.bodies,
-                &self.positions,
-                c.a,
-                c.b,
-                c.point_world,
-                c.normal_world,
-                c.gap,
-                mu,
-                softness,
-            );
-            if let Some(l) = warm.find(c) {
-                k.lambda = l;
+            let row = self.points.len();
+            if self.manifolds.last().is_none_or(|m| (m.a, m.b) != (c.a, c.b)) {
+                let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
+                let softness = if bodies[c.a].fixed || bodies[c.b].fixed { soft_fixed } else { soft };
+                self.manifolds.push(Manifold { a: c.a, b: c.b, points: (row, row), mu, softness });
             }
-            self.constraints.push(k);
+            let lambda = warm.find(c).unwrap_or([0.0; 3]);
+            self.points.push(ContactPoint { point: c.point_world, n: c.normal_world, gap: c.gap, lambda });
+            self.manifolds.last_mut().expect("pushed above").points.1 = row + 1;
+            self.constrained.push(ci);
         }
         // the bodies the constraints move, and those the robots' rows move
         self.active.clear();
-        for i in self.constraints.iter().flat_map(|k| [k.a, k.b]).chain(self.links.bodies()) {
+        for i in self.manifolds.iter().flat_map(|m| [m.a, m.b]).chain(self.links.bodies()) {
             if !bodies[i].fixed && !self.in_active[i] {
                 self.in_active[i] = true;
                 self.active.push(i);
@@ -601,19 +601,17 @@ impl ContactStage {
         }
         // the soft step: per substep, forces, warm start, soft solve, move, relax
         let (slop, max_push) = (settings.slop, settings.max_correction_speed);
-        // the constraints come grouped by pair of bodies (`Colliders::find_contacts`): each group
-        // is solved with its two bodies' velocities held locally
-        self.groups.clear();
-        let mut start = 0;
-        for (i, k) in self.constraints.iter().enumerate() {
-            let next = self.constraints.get(i + 1);
-            if next.is_none_or(|n| (n.a, n.b) != (k.a, k.b)) {
-                self.groups.push((start, i + 1));
-                start = i + 1;
-            }
-        }
-        // the pairs in colours, four to a batch (`batch`): the pairs of a colour share no moving body
-        self.lanes.build(&self.groups, &self.constraints, &self.bodies, |i| !bodies[i].fixed);
+        // the manifolds in colours, four to a batch (`batch`): the manifolds of a colour share no
+        // moving body; each batch's constraints computed in the lanes, each manifold solved with its
+        // two bodies' velocities held locally
+        self.lanes.build_points(
+            &self.manifolds,
+            &self.points,
+            &self.bodies,
+            &self.positions,
+            |i| !bodies[i].fixed,
+            &mut self.constraints,
+        );
         let lanes = &mut self.lanes;
         let constraints = &mut self.constraints;
         self.lambda_sums.clear();
@@ -622,7 +620,7 @@ impl ContactStage {
         let with_links = !links.is_empty();
         // a robot alone on the floor has no body constraint: the lanes' calls (one per colour and
         // pass) are skipped
-        let with_bodies = !constraints.is_empty();
+        let with_bodies = !self.points.is_empty();
         // the sweeps of the step, counted: each pass over a manifold's points runs the other way
         // than the one before, with a pass and the next one going the same way in pairs (forward,
         // back, back, forward, …; `solver::Sweep::reverse`)
@@ -673,12 +671,13 @@ impl ContactStage {
                 lanes.accumulate(constraints, &mut self.lambda_sums);
             }
         }
-        lanes.store_lambdas(constraints);
-        lanes.store_sums(&mut self.lambda_sums);
-        for ((&ci, sum), k) in self.constrained.iter().zip(&self.lambda_sums).zip(constraints.iter()) {
-            self.impulses[ci] += sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2;
-            self.lambdas[ci] = k.lambda;
-        }
+        let (impulses, lambdas, constrained, points) =
+            (&mut self.impulses, &mut self.lambdas, &self.constrained, &self.points);
+        lanes.for_each_point(constraints, &self.lambda_sums, |row, t1, t2, lambda, sum| {
+            let ci = constrained[row];
+            impulses[ci] += sum[0] * points[row].n + sum[1] * t1 + sum[2] * t2;
+            lambdas[ci] = lambda;
+        });
         if with_links {
             links.store_elastic_energy(&self.bodies, slop);
             links.finish(robots, dt);

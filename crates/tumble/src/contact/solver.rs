@@ -110,6 +110,30 @@ pub struct Constraint {
     pub lambda: [f64; 3],
 }
 
+/// A manifold as the resting solver takes it in: its two bodies, its points (a range of the
+/// [`ContactPoint`]s, in the narrow phase's order), the pair's friction coefficient and the softness
+/// of its rows (against a fixed body or not). With its points, the input of [`Constraint::new`] and
+/// of the lanes' build ([`LaneSolver::build_points`](super::batch::LaneSolver::build_points)).
+#[derive(Debug, Clone, Copy)]
+pub struct Manifold {
+    pub a: usize,
+    pub b: usize,
+    pub points: (usize, usize),
+    pub mu: f64,
+    pub softness: Softness,
+}
+
+/// A contact point of a [`Manifold`]: where (m), the unit normal `n` (A → B), the signed distance
+/// `gap` (m, negative when overlapping), and the accumulated impulses it starts the step with (the
+/// warm start, N·s).
+#[derive(Debug, Clone, Copy)]
+pub struct ContactPoint {
+    pub point: DVec3,
+    pub n: DVec3,
+    pub gap: f64,
+    pub lambda: [f64; 3],
+}
+
 /// Per-body quantities of the solve: inverse mass (1/kg), world inverse inertia (1/(kg·m²)),
 /// velocity (m/s), angular velocity (rad/s), the acceleration of the external forces (m/s²), and
 /// the motion since the start of the step: displacement `Δx` (m) and rotation `ΔR`.
