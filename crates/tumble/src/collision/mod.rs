@@ -106,6 +106,9 @@ pub struct Colliders {
     excluded: Vec<(usize, usize)>,
     aabbs: Vec<Aabb>,
     sweeps: Vec<f64>,
+    /// Each body's shape pose in the world (`pose`), made by the broad phase with its box and kept
+    /// with it; read by the narrow phase (one per body and step instead of one per pair).
+    poses: Vec<Pose>,
     /// Per body, whether its box and sweep were made while it slept (module `broad`: a body asleep
     /// then and now keeps them), and the step settings `(dt, gravity, margin)` they were made with.
     made_asleep: Vec<bool>,
@@ -198,6 +201,7 @@ impl Colliders {
             excluded: Vec::new(),
             aabbs: Vec::new(),
             sweeps: Vec::new(),
+            poses: Vec::new(),
             made_asleep: Vec::new(),
             broad_settings: None,
             grid: broad::Grid::default(),
@@ -398,8 +402,9 @@ impl Colliders {
     fn narrow_phase(&self, bodies: &[RigidBody], entry: &mut pairs::PairManifold, out: &mut Vec<Contact>) -> bool {
         let (i, j) = entry.pair();
         let (Some(shape_i), Some(shape_j)) = (&self.shapes[i], &self.shapes[j]) else { return false };
-        let pose_i = self.pose(bodies, i);
-        let pose_j = self.pose(bodies, j);
+        // the poses the broad phase made this step (the same function of the same states)
+        let (pose_i, pose_j) = (self.poses[i], self.poses[j]);
+        debug_assert!(pose_i == self.pose(bodies, i) && pose_j == self.pose(bodies, j));
         let prediction = self.sweeps[i] + self.sweeps[j];
         let pos12 = pose_i.inv_mul(&pose_j);
         // a plane is unbounded: the other shape's size sets the bound

@@ -55,6 +55,7 @@ use super::Colliders;
 use crate::body::RigidBody;
 use crate::math::DVec3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose;
 
 #[cfg(test)]
 mod tests;
@@ -195,6 +196,8 @@ impl Colliders {
             self.aabbs.resize(n, Aabb::new_invalid());
             self.sweeps.clear();
             self.sweeps.resize(n, 0.0);
+            self.poses.clear();
+            self.poses.resize(n, Pose::IDENTITY);
             self.made_asleep.clear();
             self.made_asleep.resize(n, false);
         }
@@ -220,8 +223,11 @@ impl Colliders {
                         + fall * b.gravity_scale.abs()
                 };
                 self.sweeps[i] = sweep + 0.5 * slop;
+                if self.shapes[i].is_some() {
+                    self.poses[i] = self.pose(bodies, i);
+                }
                 self.aabbs[i] = match &self.shapes[i] {
-                    Some(s) if boxed => s.compute_aabb(&self.pose(bodies, i)).loosened(sweep + 0.5 * slop),
+                    Some(s) if boxed => s.compute_aabb(&self.poses[i]).loosened(sweep + 0.5 * slop),
                     _ => Aabb::new_invalid(),
                 };
                 self.made_asleep[i] = sleeping;
