@@ -277,13 +277,20 @@ impl<L: SolveLanes> Slot<L> {
         let sliding = (l1 * l1 + l2 * l2).gt(limit * limit);
         if sliding.any() {
             let project = sliding & limit.gt(zero);
-            if project.any() {
+            let scale = if project.any() {
                 let (p1, p2) = project_on_disc(self.tangent_k, l1, l2, limit, project);
                 l1 = project.select(p1, l1);
                 l2 = project.select(p2, l2);
-            }
-            let len = (l1 * l1 + l2 * l2).sqrt();
-            let scale = (len.gt(zero) & len.is_finite()).select(limit / len, zero);
+                let len = (l1 * l1 + l2 * l2).sqrt();
+                (len.gt(zero) & len.is_finite()).select(limit / len, zero)
+            } else {
+                // no sliding lane has a positive limit (an open point, or μ = 0): there `limit` is
+                // ±0 (`μ ≥ 0`, `λ_n ≥ 0`), so `limit / len` is `limit` itself for a positive finite
+                // `len = √(l1² + l2²)`, and the square root and the division (on the sweep's
+                // critical path, in most of a pile's solves) are not needed: the same bits
+                let len_squared = l1 * l1 + l2 * l2;
+                (len_squared.gt(zero) & len_squared.is_finite()).select(limit, zero)
+            };
             l1 = sliding.select(l1 * scale, l1);
             l2 = sliding.select(l2 * scale, l2);
         }
