@@ -296,6 +296,12 @@ impl<L: SolveLanes> Slot<L> {
         }
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
 
+        if !let_go.any() {
+            // (the common case: the selects below would keep every lane's own values)
+            self.lambda = [new, l1, l2];
+            self.apply(ma, mb, dn, d1, d2, self.valid);
+            return self.valid & self.holds();
+        }
         // the let-go lanes apply −λ and hold nothing (when they held nothing, nothing is applied)
         let dn = let_go.select(l0.neg(), dn);
         let d1 = let_go.select(self.lambda[1].neg(), d1);
