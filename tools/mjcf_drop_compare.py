@@ -16,10 +16,11 @@ the robot (tumble: `World.contacts()`; MuJoCo: `mj_contactForce`), the deepest p
 tumble's mechanical energy. Trajectories are expected to differ once contacts act (MuJoCo's
 contacts are soft, tumble's are impulses with Coulomb friction); the figures show how they compare.
 
-Checks (tumble, zero control): no NaN, the deepest penetration under 2 mm over the whole run (the landing included), and
-the mechanical energy never above its lowest value so far (a passive system only loses energy), to
-1e-6 J: the robot's `energy()` plus what the springs of its soft contact and limit rows store
-(`contact_elastic_energy()`), which they give back as an overlap or an overshoot shrinks.
+Checks (tumble, zero control): no NaN, the deepest penetration under 2 mm over the whole run (the
+landing included), and the mechanical energy never above its lowest value so far (a passive system
+only loses energy), to 1e-6 J: the robot's `energy()` plus what the springs of its soft contact and
+limit rows store (`contact_elastic_energy()`), which they give back as an overlap or an overshoot
+shrinks.
 """
 import argparse
 import math

@@ -643,7 +643,7 @@ pub struct LaneSolver {
     overflow: Vec<(usize, usize)>,
     /// The first point of each overflow manifold among the points (groups' ranges) of the build.
     overflow_points: Vec<usize>,
-    /// Whether the sweeps run in AVX registers (the CPU has AVX2, found at [`build`](Self::build)).
+    /// Whether the sweeps run in AVX registers (the CPU has AVX2, found by each build).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx: bool,
     /// Keeps the portable `wide::f64x4` lanes even on a CPU with AVX2 (the tests run both).
@@ -942,19 +942,6 @@ impl LaneSolver {
             for (sum, k) in sums[s..e].iter_mut().zip(&constraints[s..e]) {
                 for (x, l) in sum.iter_mut().zip(k.lambda) {
                     *x += l;
-                }
-            }
-        }
-    }
-
-    /// Copies the lanes' sums of the accumulated impulses to `sums` (aligned with the constraints);
-    /// the overflow's are there already.
-    pub fn store_sums(&self, sums: &mut [[f64; 3]]) {
-        for (slot, index) in self.slots.iter().zip(&self.slot_index) {
-            let l = slot.lambda_sum.map(|x| x.to_array());
-            for (k, &i) in index.iter().enumerate() {
-                if i != NONE {
-                    sums[i] = [l[0][k], l[1][k], l[2][k]];
                 }
             }
         }

@@ -90,6 +90,11 @@ impl ContactStage {
         while start < self.contacts.len() {
             let (a, b) = (self.contacts[start].a, self.contacts[start].b);
             let end = start + self.contacts[start..].iter().take_while(|c| (c.a, c.b) == (a, b)).count();
+            if self.frozen[start..end].iter().all(|&f| f) {
+                // two bodies asleep or fixed do not move: no bound to make
+                start = end;
+                continue;
+            }
             let bound = self.approach_bound(a, b, dt, lead);
             for ci in start..end {
                 // two bodies asleep or fixed do not move; a contact that cannot approach faster than
