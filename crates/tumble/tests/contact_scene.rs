@@ -24,7 +24,7 @@ fn world_contact_settings_are_read() {
     let c = s.world.config.contact;
     assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (false, 0.05, 2.0));
     let c = load("version = 1\n").unwrap().world.config.contact;
-    assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (true, 0.01, 0.5));
+    assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (true, 0.01, 0.25));
 }
 
 #[test]

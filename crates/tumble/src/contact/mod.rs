@@ -78,7 +78,7 @@ pub struct ContactSettings {
     /// Speed below which a body is still: `|v| + ρ |ω|`, `ρ` its bounding radius (m/s). Default
     /// `0.01`.
     pub sleep_speed: f64,
-    /// Time every body of an island must have been still before it falls asleep (s). Default `0.5`.
+    /// Time every body of an island must have been still before it falls asleep (s). Default `0.25`.
     pub sleep_time: f64,
     /// The most candidate pairs the broad phase may find in a step; beyond, the step fails
     /// ([`crate::world::StepError::ContactBudget`]). Default `None`: [`default_pair_budget`] of
@@ -121,7 +121,7 @@ impl Default for ContactSettings {
             max_correction_speed: 3.0,
             sleep: true,
             sleep_speed: 0.01,
-            sleep_time: 0.5,
+            sleep_time: 0.25,
             max_pairs: None,
         }
     }
