@@ -635,6 +635,9 @@ pub struct LaneSolver {
     batches: Vec<Batch>,
     /// The batches of each colour: `batch_start[c]..batch_start[c + 1]`.
     batch_start: Vec<usize>,
+    /// The colours that hold a batch, in increasing order: the passes visit only these (a small
+    /// scene uses a few of the [`COLOURS`], and each colour's pass is a call).
+    used: Vec<usize>,
     slots: Vec<Slot<f64x4>>,
     /// The constraint of each lane of each slot ([`NONE`] for padding).
     slot_index: Vec<[usize; LANES]>,
@@ -856,6 +859,8 @@ impl LaneSolver {
             }
         }
         self.batch_start.push(self.batches.len());
+        self.used.clear();
+        self.used.extend((0..COLOURS).filter(|&c| self.batch_start[c + 1] > self.batch_start[c]));
     }
 
     /// The number of colours in use and of the manifolds left to the overflow.
@@ -877,8 +882,8 @@ impl LaneSolver {
 
     /// Warm start of every manifold: the colours, then the overflow.
     pub fn warm_start(&mut self, constraints: &[Constraint], bodies: &mut [SolverBody]) {
-        for c in 0..COLOURS {
-            self.warm_start_batches(self.colour_batches(c), bodies);
+        for k in 0..self.used.len() {
+            self.warm_start_batches(self.colour_batches(self.used[k]), bodies);
         }
         for &(s, e) in &self.overflow {
             warm_start_pair(&constraints[s..e], bodies);
@@ -887,8 +892,8 @@ impl LaneSolver {
 
     /// One sweep over every manifold: the colours, then the overflow.
     pub fn solve(&mut self, constraints: &mut [Constraint], bodies: &mut [SolverBody], sweep: &Sweep) {
-        for c in 0..COLOURS {
-            self.solve_batches(self.colour_batches(c), bodies, sweep);
+        for k in 0..self.used.len() {
+            self.solve_batches(self.colour_batches(self.used[k]), bodies, sweep);
         }
         for &(s, e) in &self.overflow {
             solve_pair(&mut constraints[s..e], bodies, sweep);
