@@ -424,11 +424,142 @@ fn a_nan_is_named_when_no_other_body_diverges() {
 
 #[test]
 fn the_batched_step_allocates_nothing() {
+    // the step's own layout of the bodies is made once, at the second step (the first that finds
+    // the bodies as the step before left them): after that, nothing
     let mut world = World::new(config(), random_bodies(41, 203));
+    world.step().unwrap();
     world.step().unwrap();
     let before = ALLOCATIONS.with(Cell::get);
     for _ in 0..200 {
         world.step().unwrap();
     }
     assert_eq!(ALLOCATIONS.with(Cell::get) - before, 0);
+    // nor when the bodies are changed at every step (stepped by rows)
+    let before = ALLOCATIONS.with(Cell::get);
+    for step in 0..200 {
+        world.bodies[step % 203].state.velocity.x += 1e-3;
+        world.step().unwrap();
+    }
+    assert_eq!(ALLOCATIONS.with(Cell::get) - before, 0);
+}
+
+/// Applies one of several edits to body `j` of both lists: a kick, new mass properties and loads,
+/// the fixed flag, an orientation-dependent load given or taken (the body moves between the blocks
+/// and the scalar step).
+fn edit(rng: &mut Rng, j: usize, lists: [&mut [RigidBody]; 2]) {
+    let kind = (rng.uniform(0.0, 4.0) as usize).min(3);
+    let (a, b) = (rng.uniform(0.2, 3.0), rng.uniform(0.2, 3.0));
+    let c = rng.uniform((a - b).abs() + 0.05, a + b);
+    let mass = MassProperties::from_principal(rng.uniform(0.1, 10.0), DVec3::new(a, b, c)).unwrap();
+    let (kick, force, damping, flip) = (rng.vec(1.0), rng.vec(2.0), rng.uniform(0.0, 0.5), rng.chance(0.5));
+    for list in lists {
+        let body = &mut list[j];
+        match kind {
+            0 => body.state.velocity += kick,
+            1 => {
+                body.mass = mass;
+                body.loads.force_world = force;
+                body.loads.angular_damping = damping;
+            }
+            2 => body.fixed = flip,
+            _ => body.loads.force_body = if flip { kick } else { DVec3::ZERO },
+        }
+    }
+}
+
+#[test]
+fn bodies_edited_now_and_then_are_stepped_from_their_new_state() {
+    // between edits the step keeps the bodies in its own layout (made at the second step after an
+    // edit, then kept): every way in and out of it, bit for bit against the scalar step
+    for (seed, n, chance) in [(61, 37, 0.3), (62, 203, 0.1), (63, 9, 0.5)] {
+        let config = config();
+        let mut reference = random_bodies(seed, n);
+        let mut world = World::new(config, reference.clone());
+        let mut rng = Rng(seed + 1000);
+        for step in 0..300 {
+            if rng.chance(chance) {
+                let j = (rng.uniform(0.0, n as f64) as usize).min(n - 1);
+                edit(&mut rng, j, [&mut world.bodies, &mut reference]);
+            }
+            world.step().unwrap();
+            scalar_step(&mut reference, &config);
+            for (a, b) in world.bodies.iter().zip(&reference) {
+                assert_eq!(bits(a), bits(b), "seed {seed}, step {step}, body {}", a.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn worlds_cloned_or_swapping_their_bodies_step_their_own() {
+    let config = config();
+    let mut first = World::new(config, random_bodies(71, 29));
+    let mut second = World::new(config, random_bodies(72, 29));
+    for _ in 0..5 {
+        first.step().unwrap();
+        second.step().unwrap();
+    }
+    // a clone, then one of the two edited: each steps its own bodies
+    let mut clone = first.clone();
+    clone.bodies[3].state.velocity.x += 1.0;
+    let mut references: Vec<Vec<RigidBody>> = [&first, &second, &clone].map(|w| w.bodies.to_vec()).into();
+    // the bodies of two worlds swapped whole (no mutable borrow of a body in either)
+    std::mem::swap(&mut first.bodies, &mut second.bodies);
+    references.swap(0, 1);
+    for step in 0..20 {
+        for (world, reference) in [&mut first, &mut second, &mut clone].into_iter().zip(&mut references) {
+            world.step().unwrap();
+            scalar_step(reference, &config);
+            for (a, b) in world.bodies.iter().zip(reference.iter()) {
+                assert_eq!(bits(a), bits(b), "step {step}, body {}", a.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_body_diverging_in_a_later_step_is_named_and_that_step_undone() {
+    // the bodies are in the step's own layout by then: a block's first half is written before its
+    // second half is found diverging, a scalar body (orientation-dependent load) after every block
+    let config = config();
+    for (bad, scalar) in [(0, false), (5, false), (6, false), (10, false), (3, true), (10, true)] {
+        let mut bodies = random_bodies(81, 11);
+        for b in &mut bodies {
+            b.fixed = false;
+            b.loads.force_body = DVec3::ZERO;
+            b.loads.point_forces.clear();
+            b.state.omega_body = b.state.omega_body.clamp_length_max(5.0);
+            b.state.orientation = b.state.orientation.normalize();
+        }
+        bodies[bad].state.velocity = DVec3::ZERO;
+        bodies[bad].gravity_scale = 0.0;
+        bodies[bad].loads.linear_damping = 0.0;
+        // |v| = k h F/m after k steps: 9.9e9 m/s after nine, 1.1e10 after ten
+        bodies[bad].loads.force_world = DVec3::new(1.1e12 * bodies[bad].mass.mass, 0.0, 0.0);
+        if scalar {
+            bodies[bad].loads.force_body = DVec3::new(0.0, 1e-9, 0.0);
+        }
+        let mut world = World::new(config, bodies.clone());
+        for _ in 0..9 {
+            world.step().unwrap();
+            scalar_step(&mut bodies, &config);
+        }
+        let err = world.step().unwrap_err().diverged().cloned().unwrap();
+        assert_eq!(err.body, format!("body{bad}"), "{err}");
+        assert!(err.quantity.contains("velocity"), "{err}");
+        assert_eq!((err.step, world.steps()), (10, 9));
+        for (a, b) in world.bodies.iter().zip(&bodies) {
+            assert_eq!(bits(a), bits(b), "body {} was not restored", a.name);
+        }
+        // and the world goes on from there as the scalar step does, once the force is gone
+        world.bodies[bad].loads.force_world = DVec3::ZERO;
+        bodies[bad].loads.force_world = DVec3::ZERO;
+        for step in 0..5 {
+            world.step().unwrap();
+            scalar_step(&mut bodies, &config);
+            for (a, b) in world.bodies.iter().zip(&bodies) {
+                assert_eq!(bits(a), bits(b), "step {step} after, body {}", a.name);
+            }
+        }
+    }
 }

@@ -77,6 +77,22 @@ impl Row {
             fields(body)
         }
     }
+
+    /// Sets the four fields of `body` to `row`, `set(body, row)` written as one store when they are
+    /// adjacent.
+    #[inline(always)]
+    fn write(self, body: &mut RigidBody, row: [f64; 4], set: fn(&mut RigidBody, [f64; 4])) {
+        if self.adjacent() {
+            // SAFETY: the 32 bytes at this offset are four `f64` fields of `body` (checked above; the
+            // offsets are `offset_of!` of those fields), written through a pointer to the whole body
+            #[allow(unsafe_code)]
+            unsafe {
+                (body as *mut RigidBody).cast::<u8>().add(self.0[0]).cast::<[f64; 4]>().write_unaligned(row)
+            }
+        } else {
+            set(body, row)
+        }
+    }
 }
 
 macro_rules! row {
@@ -244,71 +260,165 @@ fn x8_avx512(bodies: &mut [RigidBody], lanes: &[usize; MAX_LANES], count: usize,
     step::<Avx512>(bodies, lanes, count, gravity_world, h)
 }
 
-/// The step in lanes `L`, on the bodies `lanes[..count]` (`lanes.len() >= L::N`).
+/// The constants of `N` bodies' step, in lanes (from the bodies' rows, or from a [`Block`]).
+#[derive(Clone, Copy)]
+struct Params<L> {
+    mass: L,
+    inertia: V3<L>,
+    inv_mass: L,
+    inv_inertia: V3<L>,
+    /// `f_world` of the loads (the body-frame force is zero: the bodies are batchable).
+    force_load: V3<L>,
+    /// `τ_body` of the loads.
+    torque_load: V3<L>,
+    linear_damping: L,
+    angular_damping: L,
+    gravity_scale: L,
+    /// `ε/(h|ω|) = ΔI/I_min`, as in `implicit_gyroscopic`: `(max I − min I) max I⁻¹`.
+    spread: L,
+}
+
+/// The state of `N` bodies in lanes: `x`, `q` (`x, y, z, w`), `v`, `ω_body`.
+#[derive(Clone, Copy)]
+struct State<L> {
+    position: V3<L>,
+    orientation: [L; 4],
+    velocity: V3<L>,
+    omega: V3<L>,
+}
+
+/// The step in lanes `L`, on the bodies `lanes[..count]` (`lanes.len() >= L::N`): gathered by rows,
+/// advanced, scattered by rows.
 #[inline(always)]
 fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, gravity_world: DVec3, h: f64) -> u32 {
     debug_assert!((1..=L::N).contains(&count) && lanes.len() >= L::N);
-    let all = (1u32 << L::N) - 1;
     let index: [usize; MAX_LANES] = core::array::from_fn(|k| if k < count { lanes[k] } else { lanes[0] });
-    let hv = L::splat(h);
     let group: [&RigidBody; MAX_LANES] = core::array::from_fn(|k| &bodies[index[k]]);
+    let (params, state) = gather::<L>(&group);
+    let (state, insane) = advance(&params, state, gravity_world, h);
+    scatter(&state, &index, count, bodies);
+    insane & ((1 << count) - 1)
+}
 
-    // parameters (constants of each body) and state: rows of four adjacent fields of each body
-    // (one load each where the layout has them adjacent, see `Row`), transposed into lanes
-    let [mass, ix, iy, iz] = rows::<L>(&group, ROW_MASS, |b| {
+/// The parameters (constants of each body) and the states of the group's bodies: rows of four
+/// adjacent fields of each body (one load each where the layout has them adjacent, see `Row`),
+/// transposed into lanes.
+#[inline(always)]
+fn gather<L: BatchLanes>(group: &[&RigidBody; MAX_LANES]) -> (Params<L>, State<L>) {
+    let [mass, ix, iy, iz] = rows::<L>(group, ROW_MASS, |b| {
         let i = b.mass.inertia_body;
         [b.mass.mass, i.x, i.y, i.z]
     });
-    let [inv_mass, jx, jy, jz] = rows::<L>(&group, ROW_INV_MASS, |b| {
+    let [inv_mass, jx, jy, jz] = rows::<L>(group, ROW_INV_MASS, |b| {
         let j = b.mass.inv_inertia_body;
         [b.mass.inv_mass, j.x, j.y, j.z]
     });
-    let [tx, ty, tz, linear_damping] = rows::<L>(&group, ROW_TORQUE, |b| {
+    let [tx, ty, tz, linear_damping] = rows::<L>(group, ROW_TORQUE, |b| {
         let t = b.loads.torque_body;
         [t.x, t.y, t.z, b.loads.linear_damping]
     });
     // (the body-frame force is zero: the body is batchable)
-    let [fx, fy, fz, _] = rows::<L>(&group, ROW_FORCE, |b| {
+    let [fx, fy, fz, _] = rows::<L>(group, ROW_FORCE, |b| {
         let f = b.loads.force_world;
         [f.x, f.y, f.z, b.loads.force_body.x]
     });
-    let [_, _, _, angular_damping] = rows::<L>(&group, ROW_DAMPING, |b| {
+    let [_, _, _, angular_damping] = rows::<L>(group, ROW_DAMPING, |b| {
         let l = &b.loads;
         [l.torque_body.y, l.torque_body.z, l.linear_damping, l.angular_damping]
     });
     let (inertia, inv_inertia) = (V3 { x: ix, y: iy, z: iz }, V3 { x: jx, y: jy, z: jz });
-    let (force_load, torque_load) = (V3 { x: fx, y: fy, z: fz }, V3 { x: tx, y: ty, z: tz });
-    // ε/(h|ω|) = ΔI/I_min, as in `implicit_gyroscopic`: (max I − min I) max I⁻¹, with
     // `DVec3::max_element`'s and `min_element`'s comparisons in the same order (NaNs included)
-    let max_element = |v: V3<L>| v.x.cmp_max(v.y.cmp_max(v.z));
-    let spread = (max_element(inertia) - inertia.x.cmp_min(inertia.y.cmp_min(inertia.z))) * max_element(inv_inertia);
-    let [px, py, pz, qx] = rows::<L>(&group, ROW_STATE[0], |b| {
+    let max_i = inertia.x.cmp_max(inertia.y.cmp_max(inertia.z));
+    let min_i = inertia.x.cmp_min(inertia.y.cmp_min(inertia.z));
+    let max_j = inv_inertia.x.cmp_max(inv_inertia.y.cmp_max(inv_inertia.z));
+    let [px, py, pz, qx] = rows::<L>(group, ROW_STATE[0], |b| {
         let s = &b.state;
         [s.position.x, s.position.y, s.position.z, s.orientation.x]
     });
-    let [qy, qz, qw, vx] = rows::<L>(&group, ROW_STATE[1], |b| {
+    let [qy, qz, qw, vx] = rows::<L>(group, ROW_STATE[1], |b| {
         let s = &b.state;
         [s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x]
     });
-    let [vy, vz, wx, wy] = rows::<L>(&group, ROW_STATE[2], |b| {
+    let [vy, vz, wx, wy] = rows::<L>(group, ROW_STATE[2], |b| {
         let s = &b.state;
         [s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y]
     });
-    let [_, _, wz, gravity_scale] = rows::<L>(&group, ROW_STATE[3], |b| {
+    let [_, _, wz, gravity_scale] = rows::<L>(group, ROW_STATE[3], |b| {
         let w = b.state.omega_body;
         [w.x, w.y, w.z, b.gravity_scale]
     });
+    let params = Params {
+        mass,
+        inertia,
+        inv_mass,
+        inv_inertia,
+        force_load: V3 { x: fx, y: fy, z: fz },
+        torque_load: V3 { x: tx, y: ty, z: tz },
+        linear_damping,
+        angular_damping,
+        gravity_scale,
+        spread: (max_i - min_i) * max_j,
+    };
+    let state = State {
+        position: V3 { x: px, y: py, z: pz },
+        orientation: [qx, qy, qz, qw],
+        velocity: V3 { x: vx, y: vy, z: vz },
+        omega: V3 { x: wx, y: wy, z: wz },
+    };
+    (params, state)
+}
+
+/// Writes lanes `..count` of `state` into the bodies `index[..count]`: the state's rows, transposed
+/// back.
+#[inline(always)]
+fn scatter<L: BatchLanes>(state: &State<L>, index: &[usize], count: usize, bodies: &mut [RigidBody]) {
+    let (p, q, v, o) = (state.position, state.orientation, state.velocity, state.omega);
+    L::to_rows([p.x, p.y, p.z, q[0]], |k, row| {
+        if k < count {
+            ROW_STATE[0].write(&mut bodies[index[k]], row, |b, [x, y, z, qx]| {
+                (b.state.position, b.state.orientation.x) = (DVec3::new(x, y, z), qx);
+            });
+        }
+    });
+    L::to_rows([q[1], q[2], q[3], v.x], |k, row| {
+        if k < count {
+            ROW_STATE[1].write(&mut bodies[index[k]], row, |b, [qy, qz, qw, vx]| {
+                let s = &mut b.state;
+                (s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x) = (qy, qz, qw, vx);
+            });
+        }
+    });
+    L::to_rows([v.y, v.z, o.x, o.y], |k, row| {
+        if k < count {
+            ROW_STATE[2].write(&mut bodies[index[k]], row, |b, [vy, vz, wx, wy]| {
+                let s = &mut b.state;
+                (s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y) = (vy, vz, wx, wy);
+            });
+        }
+    });
+    for (k, &i) in index.iter().enumerate().take(count) {
+        bodies[i].state.omega_body.z = o.z.lane(k);
+    }
+}
+
+/// One semi-implicit Euler step of `h` seconds of `N` bodies in lanes, under the world's gravity
+/// `gravity_world`: the scalar step's operations in the same order, the rare branches in scalar
+/// code for the lanes that take them. Returns the new states and the lanes (bit `k`, all `N`) whose
+/// new state fails the quick sanity test of the world's divergence check (a magnitude above
+/// `MAX_STATE_MAGNITUDE`, a NaN, or `|q|² > 4`).
+#[inline(always)]
+fn advance<L: BatchLanes>(p: &Params<L>, s: State<L>, gravity_world: DVec3, h: f64) -> (State<L>, u32) {
+    let all = (1u32 << L::N) - 1;
+    let hv = L::splat(h);
     // g_body = s g, as `RigidBody::gravity`
     let gravity = V3 { x: L::splat(gravity_world.x), y: L::splat(gravity_world.y), z: L::splat(gravity_world.z) }
-        .scale(gravity_scale);
-    let mut position = V3 { x: px, y: py, z: pz };
-    let mut velocity = V3 { x: vx, y: vy, z: vz };
-    let omega = V3 { x: wx, y: wy, z: wz };
-    let q = [qx, qy, qz, qw];
+        .scale(p.gravity_scale);
+    let (mass, inertia, inv_mass, inv_inertia) = (p.mass, p.inertia, p.inv_mass, p.inv_inertia);
+    let (mut position, mut velocity, omega) = (s.position, s.velocity, s.omega);
 
     // resultant: f = m g + f_load − (c m) v ;  τ = τ_load − c (I ω)
-    let force = gravity.scale(mass).add(force_load).sub(velocity.scale(linear_damping * mass));
-    let torque = torque_load.sub(inertia.mul(omega).scale(angular_damping));
+    let force = gravity.scale(mass).add(p.force_load).sub(velocity.scale(p.linear_damping * mass));
+    let torque = p.torque_load.sub(inertia.mul(omega).scale(p.angular_damping));
     // v ← v + h f/m ;  x ← x + h v
     velocity = velocity.add(force.scale(hv * inv_mass));
     position = position.add(velocity.scale(hv));
@@ -327,6 +437,7 @@ fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, 
     let round_off = L::splat(1.0 + 4.0 * f64::EPSILON);
     let kept = omega_new.dot(l_after).le(w.dot(l_before) * round_off)
         & l_after.length_squared().le(l_before.length_squared() * round_off);
+    let spread = p.spread;
     let small = (hv * hv * w.length_squared() * spread * spread).le(L::splat(0.05 * 0.05));
     // the residual test only where the step is not small (the scalar `small || …`)
     let converged = if L::bits(small) == all {
@@ -364,7 +475,7 @@ fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, 
         }
     }
     // as `DQuat::mul_quat`
-    let ([x0, y0, z0, w0], [x1, y1, z1, w1]) = (q, e);
+    let ([x0, y0, z0, w0], [x1, y1, z1, w1]) = (s.orientation, e);
     let mut q: [L; 4] = [
         w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
         w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1,
@@ -388,40 +499,281 @@ fn step<L: BatchLanes>(bodies: &mut [RigidBody], lanes: &[usize], count: usize, 
     // |q|² of the stored quaternion, summed as `DQuat::length_squared` (the far lanes are redone)
     let q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
     let mut insane = (!L::bits(sane) | (!L::bits(q2.le(L::splat(4.0))) & !far)) & all;
-
-    // scatter: the same rows, transposed back
-    let (p, v, o) = (position, velocity, omega_new);
-    L::to_rows([p.x, p.y, p.z, q[0]], |k, [x, y, z, qx]| {
-        if k < count {
-            let s = &mut bodies[index[k]].state;
-            (s.position, s.orientation.x) = (DVec3::new(x, y, z), qx);
-        }
-    });
-    L::to_rows([q[1], q[2], q[3], v.x], |k, [qy, qz, qw, vx]| {
-        if k < count {
-            let s = &mut bodies[index[k]].state;
-            (s.orientation.y, s.orientation.z, s.orientation.w, s.velocity.x) = (qy, qz, qw, vx);
-        }
-    });
-    L::to_rows([v.y, v.z, o.x, o.y], |k, [vy, vz, wx, wy]| {
-        if k < count {
-            let s = &mut bodies[index[k]].state;
-            (s.velocity.y, s.velocity.z, s.omega_body.x, s.omega_body.y) = (vy, vz, wx, wy);
-        }
-    });
-    for (k, &i) in index.iter().enumerate().take(count) {
-        bodies[i].state.omega_body.z = o.z.lane(k);
-    }
     // exact normalisation where |q|² was far from 1 (rare)
     if far != 0 {
-        for k in (0..count).filter(|&k| far & (1 << k) != 0) {
+        for k in (0..L::N).filter(|&k| far & (1 << k) != 0) {
             let qu = q_unrenormalized.map(|c| c.lane(k));
-            let s = &mut bodies[index[k]].state;
-            s.orientation = DQuat::from_xyzw(qu[0], qu[1], qu[2], qu[3]).normalize();
-            if s.orientation.length_squared() > 4.0 || s.orientation.length_squared().is_nan() {
+            let normalized = DQuat::from_xyzw(qu[0], qu[1], qu[2], qu[3]).normalize();
+            for (component, value) in q.iter_mut().zip([normalized.x, normalized.y, normalized.z, normalized.w]) {
+                component.set_lane(k, value);
+            }
+            if normalized.length_squared() > 4.0 || normalized.length_squared().is_nan() {
                 insane |= 1 << k;
             }
         }
     }
-    insane & ((1 << count) - 1)
+    (State { position, orientation: q, velocity, omega: omega_new }, insane)
+}
+
+/// Bodies per [`Block`]: eight, the widest lanes; four-lane CPUs step a block in two halves.
+pub(crate) const BLOCK: usize = MAX_LANES;
+
+/// The numbers of a body's state in a [`Block`]: `x`, `q` (`x, y, z, w`), `v`, `ω_body`.
+const STATE_LEN: usize = 13;
+
+/// The constants of a body's step in a [`Block`], in this order: `m`, `I`, `1/m`, `I⁻¹`, `f_world`,
+/// `τ_body`, `c_lin`, `c_ang`, the gravity scale and the spread `(max I − min I) max I⁻¹`.
+const PARAM_LEN: usize = 18;
+
+/// Up to eight batchable bodies' step data as a structure of arrays: each number of the step is
+/// eight lanes, one per body, so that the step loads its lanes directly (no transposes) from 352
+/// bytes per body instead of the seven cache lines of a `RigidBody` it reads through rows. The
+/// state is kept twice: the step reads state `parity` and writes state `1 − parity`, so that the
+/// state from before the step stays here (for the undo of a step that diverges). Lanes `count..`
+/// repeat lane 0 (stepped, never written out).
+///
+/// A copy of the bodies: valid only while they are not changed elsewhere (the world keeps it with
+/// the seal of its [`Bodies`](crate::world::Bodies)).
+#[derive(Clone)]
+#[repr(C, align(64))]
+pub(crate) struct Block {
+    /// `state[b][j][k]`: number `j` of the state of lane `k`, copy `b`.
+    state: [[[f64; BLOCK]; STATE_LEN]; 2],
+    /// `params[j][k]`: constant `j` of lane `k`.
+    params: [[f64; BLOCK]; PARAM_LEN],
+    /// The bodies' indices in the world's list, lanes `count..` repeating lane 0.
+    index: [usize; BLOCK],
+    count: usize,
+}
+
+impl Block {
+    /// The block of the bodies `indices` (1 to 8 distinct indices of batchable bodies), their states
+    /// as both copies.
+    pub(crate) fn new(bodies: &[RigidBody], indices: &[usize]) -> Self {
+        let count = indices.len();
+        assert!((1..=BLOCK).contains(&count), "{count} bodies in a block of {BLOCK}");
+        let mut block = Block {
+            state: [[[0.0; BLOCK]; STATE_LEN]; 2],
+            params: [[0.0; BLOCK]; PARAM_LEN],
+            index: [indices[0]; BLOCK],
+            count,
+        };
+        for k in 0..BLOCK {
+            let body = &bodies[if k < count { indices[k] } else { indices[0] }];
+            debug_assert!(batchable(body));
+            block.index[k] = if k < count { indices[k] } else { indices[0] };
+            let s = &body.state;
+            let (x, q, v, w) = (s.position, s.orientation, s.velocity, s.omega_body);
+            let state = [x.x, x.y, x.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z];
+            let (m, l) = (&body.mass, &body.loads);
+            let (i, j, f, t) = (m.inertia_body, m.inv_inertia_body, l.force_world, l.torque_body);
+            // as `implicit_gyroscopic`
+            let spread = (i.max_element() - i.min_element()) * j.max_element();
+            let params = [
+                m.mass,
+                i.x,
+                i.y,
+                i.z,
+                m.inv_mass,
+                j.x,
+                j.y,
+                j.z,
+                f.x,
+                f.y,
+                f.z,
+                t.x,
+                t.y,
+                t.z,
+                l.linear_damping,
+                l.angular_damping,
+                body.gravity_scale,
+                spread,
+            ];
+            for copy in &mut block.state {
+                for (row, value) in copy.iter_mut().zip(state) {
+                    row[k] = value;
+                }
+            }
+            for (row, value) in block.params.iter_mut().zip(params) {
+                row[k] = value;
+            }
+        }
+        block
+    }
+
+    /// The indices of the block's bodies.
+    pub(crate) fn indices(&self) -> &[usize] {
+        &self.index[..self.count]
+    }
+
+    /// Writes state copy `parity` of the block's bodies into `bodies` (the undo).
+    pub(crate) fn restore(&self, parity: usize, bodies: &mut [RigidBody]) {
+        let n = &self.state[parity];
+        for (k, &i) in self.indices().iter().enumerate() {
+            let s = &mut bodies[i].state;
+            s.position = DVec3::new(n[0][k], n[1][k], n[2][k]);
+            s.orientation = DQuat::from_xyzw(n[3][k], n[4][k], n[5][k], n[6][k]);
+            s.velocity = DVec3::new(n[7][k], n[8][k], n[9][k]);
+            s.omega_body = DVec3::new(n[10][k], n[11][k], n[12][k]);
+        }
+    }
+
+    /// The constants of lanes `start..start + N`.
+    #[inline(always)]
+    fn params<L: BatchLanes>(&self, start: usize) -> Params<L> {
+        let p = &self.params;
+        Params {
+            mass: lanes_at(&p[0], start),
+            inertia: V3 { x: lanes_at(&p[1], start), y: lanes_at(&p[2], start), z: lanes_at(&p[3], start) },
+            inv_mass: lanes_at(&p[4], start),
+            inv_inertia: V3 { x: lanes_at(&p[5], start), y: lanes_at(&p[6], start), z: lanes_at(&p[7], start) },
+            force_load: V3 { x: lanes_at(&p[8], start), y: lanes_at(&p[9], start), z: lanes_at(&p[10], start) },
+            torque_load: V3 { x: lanes_at(&p[11], start), y: lanes_at(&p[12], start), z: lanes_at(&p[13], start) },
+            linear_damping: lanes_at(&p[14], start),
+            angular_damping: lanes_at(&p[15], start),
+            gravity_scale: lanes_at(&p[16], start),
+            spread: lanes_at(&p[17], start),
+        }
+    }
+
+    /// State copy `parity` of lanes `start..start + N`.
+    #[inline(always)]
+    fn state<L: BatchLanes>(&self, parity: usize, start: usize) -> State<L> {
+        let n = &self.state[parity];
+        State {
+            position: V3 { x: lanes_at(&n[0], start), y: lanes_at(&n[1], start), z: lanes_at(&n[2], start) },
+            orientation: [
+                lanes_at(&n[3], start),
+                lanes_at(&n[4], start),
+                lanes_at(&n[5], start),
+                lanes_at(&n[6], start),
+            ],
+            velocity: V3 { x: lanes_at(&n[7], start), y: lanes_at(&n[8], start), z: lanes_at(&n[9], start) },
+            omega: V3 { x: lanes_at(&n[10], start), y: lanes_at(&n[11], start), z: lanes_at(&n[12], start) },
+        }
+    }
+
+    /// Sets state copy `parity` of lanes `start..start + N`.
+    #[inline(always)]
+    fn set_state<L: BatchLanes>(&mut self, parity: usize, start: usize, s: &State<L>) {
+        let n = &mut self.state[parity];
+        let q = s.orientation;
+        let numbers = [
+            s.position.x,
+            s.position.y,
+            s.position.z,
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            s.velocity.x,
+            s.velocity.y,
+            s.velocity.z,
+        ];
+        for (row, value) in n.iter_mut().zip(numbers) {
+            value.store(&mut row[start..]);
+        }
+        s.omega.x.store(&mut n[10][start..]);
+        s.omega.y.store(&mut n[11][start..]);
+        s.omega.z.store(&mut n[12][start..]);
+    }
+}
+
+/// Lanes `start..start + N` of a block's row.
+#[inline(always)]
+fn lanes_at<L: BatchLanes>(row: &[f64; BLOCK], start: usize) -> L {
+    L::load(&row[start..])
+}
+
+/// Advances the bodies of every block by one semi-implicit Euler step of `h` seconds under the
+/// world's gravity `gravity_world` (m/s², world frame), from state copy `parity` to copy
+/// `1 − parity`, and writes each new state into `bodies` as well: bit for bit the step of
+/// [`semi_implicit_euler_batch`]. Eight lanes in AVX-512 registers where the CPU has AVX-512F, four
+/// (a block in two halves) in AVX registers where it has AVX2, `wide::f64x4` otherwise.
+///
+/// Stops at the first block with a body whose new state fails the quick sanity test of the world's
+/// divergence check: `Err(j)`, blocks `..j` stepped and written, block `j` possibly in part (its
+/// first half); the caller restores them ([`Block::restore`]) and names the body with the full check.
+pub(crate) fn step_blocks(
+    blocks: &mut [Block],
+    parity: usize,
+    bodies: &mut [RigidBody],
+    gravity_world: DVec3,
+    h: f64,
+) -> Result<(), usize> {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx512() {
+        // SAFETY: the CPU has AVX-512F
+        #[allow(unsafe_code)]
+        return unsafe { blocks_avx512(blocks, parity, bodies, gravity_world, h) };
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2
+        #[allow(unsafe_code)]
+        return unsafe { blocks_avx2(blocks, parity, bodies, gravity_world, h) };
+    }
+    step_blocks_portable(blocks, parity, bodies, gravity_world, h)
+}
+
+/// [`step_blocks`] in `wide::f64x4` lanes whatever the CPU: the portable path, for tests.
+pub(crate) fn step_blocks_portable(
+    blocks: &mut [Block],
+    parity: usize,
+    bodies: &mut [RigidBody],
+    gravity_world: DVec3,
+    h: f64,
+) -> Result<(), usize> {
+    blocks_in::<f64x4>(blocks, parity, bodies, gravity_world, h)
+}
+
+/// [`step_blocks`] compiled for AVX2, in [`Avx`] lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn blocks_avx2(
+    blocks: &mut [Block],
+    parity: usize,
+    bodies: &mut [RigidBody],
+    gravity_world: DVec3,
+    h: f64,
+) -> Result<(), usize> {
+    blocks_in::<Avx>(blocks, parity, bodies, gravity_world, h)
+}
+
+/// [`step_blocks`] compiled for AVX-512F, in [`Avx512`] lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn blocks_avx512(
+    blocks: &mut [Block],
+    parity: usize,
+    bodies: &mut [RigidBody],
+    gravity_world: DVec3,
+    h: f64,
+) -> Result<(), usize> {
+    blocks_in::<Avx512>(blocks, parity, bodies, gravity_world, h)
+}
+
+/// [`step_blocks`] in lanes `L`.
+#[inline(always)]
+fn blocks_in<L: BatchLanes>(
+    blocks: &mut [Block],
+    parity: usize,
+    bodies: &mut [RigidBody],
+    gravity_world: DVec3,
+    h: f64,
+) -> Result<(), usize> {
+    for (j, block) in blocks.iter_mut().enumerate() {
+        let mut start = 0;
+        while start < block.count {
+            let count = (block.count - start).min(L::N);
+            let (state, insane) = advance(&block.params::<L>(start), block.state::<L>(parity, start), gravity_world, h);
+            if insane & ((1 << count) - 1) != 0 {
+                return Err(j);
+            }
+            block.set_state(1 - parity, start, &state);
+            scatter(&state, &block.index[start..], count, bodies);
+            start += L::N;
+        }
+    }
+    Ok(())
 }

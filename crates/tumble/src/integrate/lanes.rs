@@ -227,6 +227,10 @@ pub(crate) trait BatchLanes: Arith {
     fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
     /// Lane `k`.
     fn lane(self, k: usize) -> f64;
+    /// Lane `k` from `a[k]`, `k < N` (`a` holds at least `N` numbers).
+    fn load(a: &[f64]) -> Self;
+    /// Lane `k` into `a[k]`, `k < N` (`a` holds at least `N` numbers).
+    fn store(self, a: &mut [f64]);
     /// Lane `k` set to `value`.
     fn set_lane(&mut self, k: usize, value: f64);
     /// The mask of `self <= other` (false where a lane is a NaN, as the scalar `<=`).
@@ -276,6 +280,14 @@ macro_rules! batch_lanes_of_lanes {
             #[inline(always)]
             fn lane(self, k: usize) -> f64 {
                 self.to_array()[k]
+            }
+            #[inline(always)]
+            fn load(a: &[f64]) -> Self {
+                <Self as Lanes>::new([a[0], a[1], a[2], a[3]])
+            }
+            #[inline(always)]
+            fn store(self, a: &mut [f64]) {
+                a[..4].copy_from_slice(&self.to_array());
             }
             #[inline(always)]
             fn set_lane(&mut self, k: usize, value: f64) {
@@ -546,6 +558,18 @@ mod avx {
             // SAFETY: see the type's documentation; `a` is eight writable f64
             unsafe { _mm512_storeu_pd(a.as_mut_ptr(), self.0) };
             a[k]
+        }
+        #[inline(always)]
+        fn load(a: &[f64]) -> Self {
+            let a: &[f64; 8] = a[..8].try_into().expect("eight lanes");
+            // SAFETY: see the type's documentation; `a` is eight readable f64
+            Avx512(unsafe { _mm512_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, a: &mut [f64]) {
+            let a: &mut [f64; 8] = (&mut a[..8]).try_into().expect("eight lanes");
+            // SAFETY: see the type's documentation; `a` is eight writable f64
+            unsafe { _mm512_storeu_pd(a.as_mut_ptr(), self.0) }
         }
         #[inline(always)]
         fn set_lane(&mut self, k: usize, value: f64) {

@@ -204,6 +204,9 @@ pub struct World {
     /// The last moving body with a shape found, if any: a witness that the contact stage has work,
     /// checked again at each step (the bodies may have changed) before it is believed.
     shaped: Option<usize>,
+    /// The moving bodies in the free-body step's own layout, while `bodies` is not changed elsewhere
+    /// (module `batched`).
+    pack: batched::FreePack,
 }
 
 /// Why the integration of the free bodies stopped early.
@@ -238,6 +241,7 @@ impl World {
             profile: None,
             threads: threads::Threads::default(),
             shaped: None,
+            pack: batched::FreePack::default(),
         }
     }
 

@@ -147,3 +147,27 @@ fn runaway_spin_is_reported_at_the_right_step() {
         assert_eq!(w.bodies[0].state.omega_body.length(), 9536.0 * 2f64.powi(20), "{integrator}");
     }
 }
+
+/// Under `semi_implicit_euler` the step keeps the moving bodies in its own layout from the second
+/// step after the bodies were last changed (the first that finds them as the step before left
+/// them), drops it when they are changed, and does not make it with a body asleep or a robot.
+#[test]
+fn the_free_body_layout_is_made_when_the_bodies_stay_unchanged_for_a_step() {
+    let mut w = world(Integrator::SemiImplicitEuler, DVec3::new(0.0, 0.0, -9.81), vec![tumbling_body("a")]);
+    w.step().unwrap();
+    assert_eq!(w.pack_seal(), 0, "the first step goes by rows");
+    w.step().unwrap();
+    let seal = w.bodies.seal();
+    assert!(seal != 0 && w.pack_seal() == seal, "made at the second step");
+    w.step().unwrap();
+    assert_eq!((w.bodies.seal(), w.pack_seal()), (seal, seal), "kept");
+    w.bodies[0].state.velocity.x += 1.0;
+    w.step().unwrap();
+    assert_ne!(w.pack_seal(), w.bodies.seal(), "changed: by rows");
+    w.step().unwrap();
+    assert_eq!(w.pack_seal(), w.bodies.seal(), "made again");
+    // another integrator changes the bodies by its own pass
+    w.config.integrator = Integrator::Rk4;
+    w.step().unwrap();
+    assert_eq!(w.bodies.seal(), 0);
+}
