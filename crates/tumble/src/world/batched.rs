@@ -37,9 +37,24 @@ pub(super) struct FreePack {
     /// Whether a moving body has a shape.
     shaped: bool,
     /// The seal put on the bodies at the end of the last step taken by rows: if they still bear it
-    /// at the next step, the blocks are made.
+    /// at the next step, they were not changed in between.
     pending: u64,
+    /// Steps in a row that found the bodies as the step before left them (without blocks).
+    unchanged: u32,
+    /// Such steps needed before the blocks are made: 1, doubled (up to [`MAX_WAIT`]) each time
+    /// blocks are dropped before they served [`PAYING_STEPS`] steps, back to 1 when they did. A
+    /// caller who changes the bodies every few steps would otherwise pay for making the blocks
+    /// (a step's worth of reading) more often than they save.
+    wait: u32,
+    /// Steps taken from the present blocks.
+    served: u32,
 }
+
+/// Steps from the blocks that pay for making them (each saves about a third of a step by rows).
+const PAYING_STEPS: u32 = 4;
+
+/// The longest wait, in steps without a change, before the blocks are made.
+const MAX_WAIT: u32 = 64;
 
 impl std::fmt::Debug for FreePack {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -58,6 +73,7 @@ impl FreePack {
         self.scalar.clear();
         self.shaped = false;
         self.parity = 0;
+        self.served = 0;
         let mut group = [0usize; BLOCK];
         let mut count = 0;
         for (index, body) in bodies.iter().enumerate().filter(|(_, b)| !b.fixed) {
@@ -146,11 +162,23 @@ impl World {
             return false;
         }
         let seal = self.bodies.seal();
-        if seal == 0 || (seal != self.pack.seal && seal != self.pack.pending) {
+        let pack = &mut self.pack;
+        if seal == 0 || (seal != pack.seal && seal != pack.pending) {
+            // changed since the last step: drop the blocks, and wait longer before making them
+            // again if they did not pay
+            if pack.seal != 0 {
+                pack.wait = if pack.served < PAYING_STEPS { (pack.wait * 2).clamp(1, MAX_WAIT) } else { 1 };
+                pack.seal = 0;
+            }
+            pack.unchanged = 0;
             return false;
         }
-        if seal != self.pack.seal {
-            self.pack.make(&self.bodies, seal);
+        if seal != pack.seal {
+            pack.unchanged += 1;
+            if pack.unchanged < pack.wait.max(1) {
+                return false;
+            }
+            pack.make(&self.bodies, seal);
         }
         if watch && self.pack.shaped {
             return false;
@@ -181,6 +209,7 @@ impl World {
             }
         }
         pack.parity = 1 - parity;
+        pack.served += 1;
         true
     }
 

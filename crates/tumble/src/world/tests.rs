@@ -166,6 +166,19 @@ fn the_free_body_layout_is_made_when_the_bodies_stay_unchanged_for_a_step() {
     assert_ne!(w.pack_seal(), w.bodies.seal(), "changed: by rows");
     w.step().unwrap();
     assert_eq!(w.pack_seal(), w.bodies.seal(), "made again");
+    // a change every other step: the blocks made once pay for nothing, so the step waits for two
+    // unchanged steps before making them again, and goes by rows
+    for cycle in 0..10 {
+        w.bodies[0].state.velocity.x += 1.0;
+        w.step().unwrap();
+        w.step().unwrap();
+        if cycle > 0 {
+            assert_eq!(w.pack_seal(), 0, "cycle {cycle}: not made");
+        }
+    }
+    // (the cycle's second step was the first unchanged one)
+    w.step().unwrap();
+    assert_eq!(w.pack_seal(), w.bodies.seal(), "made at the second unchanged step");
     // another integrator changes the bodies by its own pass
     w.config.integrator = Integrator::Rk4;
     w.step().unwrap();
