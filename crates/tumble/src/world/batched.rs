@@ -11,8 +11,10 @@
 //!   number, 352 bytes per body against the seven cache lines of a `RigidBody`), steps them there and
 //!   writes each new state into `World::bodies`, so that every reader sees it. The blocks are made
 //!   when the bodies still bear, at the start of a step, the seal ([`Bodies::seal`](super::Bodies))
-//!   put on them at the end of the step before: a caller who changes the bodies at every step never
-//!   pays for making them. They are used only without robots and with no body asleep.
+//!   put on them at the end of the step before, for as many steps in a row as `FreePack::wait`
+//!   asks (one, more after blocks that were dropped before they paid): a caller who changes the
+//!   bodies at every step, or every few steps, never pays for making them. They are used only
+//!   without robots and with no body asleep.
 
 use super::{check_state, Diverged, Stop, World};
 use crate::body::RigidBody;
