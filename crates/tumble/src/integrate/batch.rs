@@ -555,13 +555,12 @@ impl Block {
         let mut block = Block {
             state: [[[0.0; BLOCK]; STATE_LEN]; 2],
             params: [[0.0; BLOCK]; PARAM_LEN],
-            index: [indices[0]; BLOCK],
+            index: core::array::from_fn(|k| if k < count { indices[k] } else { indices[0] }),
             count,
         };
         for k in 0..BLOCK {
-            let body = &bodies[if k < count { indices[k] } else { indices[0] }];
+            let body = &bodies[block.index[k]];
             debug_assert!(batchable(body));
-            block.index[k] = if k < count { indices[k] } else { indices[0] };
             let s = &body.state;
             let (x, q, v, w) = (s.position, s.orientation, s.velocity, s.omega_body);
             let state = [x.x, x.y, x.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z];

@@ -43,8 +43,9 @@ pub(super) struct FreePack {
     pending: u64,
     /// Steps in a row that found the bodies as the step before left them (without blocks).
     unchanged: u32,
-    /// Such steps needed before the blocks are made: 1, doubled (up to [`MAX_WAIT`]) each time
-    /// blocks are dropped before they served [`PAYING_STEPS`] steps, back to 1 when they did. A
+    /// Such steps needed before the blocks are made (0 counts as 1): doubled (up to [`MAX_WAIT`])
+    /// each time blocks are dropped before they served [`PAYING_STEPS`] steps — so the first such
+    /// drop leaves it at 1, the next ones make it 2, 4, … —, back to 1 when they did. A
     /// caller who changes the bodies every few steps would otherwise pay for making the blocks
     /// (a step's worth of reading) more often than they save.
     wait: u32,
