@@ -20,6 +20,11 @@
 //! instead of 1.7 mm. A manifold that finds no free colour goes to the overflow, solved one at a
 //! time after the colours by the scalar [`solve_pair`].
 //!
+//! **A colour of one manifold** (a tower's: each of its manifolds waits for the one below) is
+//! solved at its place among the colours by the scalar [`solve_pair`], not in one lane of four: the
+//! same operations in the same order, so the same bits, without the other three lanes' work and the
+//! gathering of four bodies per side.
+//!
 //! **Lanes**: within a colour, the manifolds sorted by their number of points (their order there
 //! changes no bit, and a batch of alike manifolds has little padding), four manifolds per batch,
 //! lane `k` the `k`-th; the batch's point slot
@@ -603,6 +608,15 @@ mod avx {
     }
 }
 
+/// A colour in use, as the passes take it.
+#[derive(Debug, Clone, Copy)]
+enum Colour {
+    /// The colour's batches in lanes: a range of [`LaneSolver`]'s batches.
+    Batches(usize, usize),
+    /// The colour's one manifold, solved by the scalar solver: an index of `overflow`.
+    Single(usize),
+}
+
 /// Four manifolds of one colour: their bodies and their point slots.
 #[derive(Debug, Clone, Copy)]
 pub struct Batch {
@@ -635,17 +649,22 @@ pub struct LaneSolver {
     batches: Vec<Batch>,
     /// The batches of each colour: `batch_start[c]..batch_start[c + 1]`.
     batch_start: Vec<usize>,
-    /// The colours that hold a batch, in increasing order: the passes visit only these (a small
-    /// scene uses a few of the [`COLOURS`], and each colour's pass is a call; returning early from
-    /// an empty colour's call instead made the 10:1 stack's `examples/threads` run 1.2× as long).
-    used: Vec<usize>,
+    /// The colours in use, in increasing order, each as the passes take it: the passes visit only
+    /// these (a small scene uses a few of the [`COLOURS`], and each colour's pass is a call;
+    /// returning early from an empty colour's call instead made the 10:1 stack's
+    /// `examples/threads` run 1.2× as long).
+    used: Vec<Colour>,
+    /// The manifold of each colour of one manifold (solved by the scalar solver), in colour order.
+    singles: Vec<usize>,
     slots: Vec<Slot<f64x4>>,
     /// The constraint of each lane of each slot ([`NONE`] for padding).
     slot_index: Vec<[usize; LANES]>,
     /// Manifolds (ranges of the constraints given to [`solve`](LaneSolver::solve)) solved one at a
-    /// time after the colours.
+    /// time by the scalar solver: first those of the colours of one manifold (`singles`, each
+    /// solved at its place among the colours), then the overflow, solved after the colours.
     overflow: Vec<(usize, usize)>,
-    /// The first point of each overflow manifold among the points (groups' ranges) of the build.
+    /// The first point of each of `overflow`'s manifolds among the points (groups' ranges) of the
+    /// build.
     overflow_points: Vec<usize>,
     /// Whether the sweeps run in AVX registers (the CPU has AVX2, found by each build).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
@@ -671,7 +690,7 @@ impl LaneSolver {
         self.layout(groups.len(), |g| groups[g], pair, bodies.len(), &moving);
         self.overflow.clear();
         self.overflow_points.clear();
-        for &g in &self.order[self.colour_start[COLOURS]..] {
+        for &g in self.singles.iter().chain(&self.order[self.colour_start[COLOURS]..]) {
             self.overflow.push(groups[g]);
             self.overflow_points.push(groups[g].0);
         }
@@ -688,9 +707,9 @@ impl LaneSolver {
     /// [`build`](Self::build) straight from the manifolds and their points, with the constraints
     /// of the colours' manifolds computed in the lanes (the arithmetic of [`Constraint::new`],
     /// operation for operation: the same slots bit for bit, no `Constraint` made); `positions` the
-    /// bodies' centres of mass (m). The overflow's manifolds are made into `overflow` as
-    /// [`Constraint`]s, which are then the constraints to give to [`solve`](Self::solve) and the
-    /// other passes.
+    /// bodies' centres of mass (m). The manifolds of the colours of one manifold and of the
+    /// overflow are made into `overflow` as [`Constraint`]s, which are then the constraints to give
+    /// to [`solve`](Self::solve) and the other passes.
     #[allow(unsafe_code)]
     pub fn build_points(
         &mut self,
@@ -711,7 +730,7 @@ impl LaneSolver {
         overflow.clear();
         self.overflow.clear();
         self.overflow_points.clear();
-        for &g in &self.order[self.colour_start[COLOURS]..] {
+        for &g in self.singles.iter().chain(&self.order[self.colour_start[COLOURS]..]) {
             let m = &manifolds[g];
             let start = overflow.len();
             for p in &points[m.points.0..m.points.1] {
@@ -824,9 +843,20 @@ impl LaneSolver {
         self.batches.clear();
         self.batch_start.clear();
         self.slot_index.clear();
+        self.singles.clear();
+        self.used.clear();
         for c in 0..COLOURS {
             self.batch_start.push(self.batches.len());
             let members = &self.order[self.colour_start[c]..self.colour_start[c + 1]];
+            if let [g] = *members {
+                self.used.push(Colour::Single(self.singles.len()));
+                self.singles.push(g);
+                continue;
+            }
+            if !members.is_empty() {
+                let first = self.batches.len();
+                self.used.push(Colour::Batches(first, first + members.len().div_ceil(LANES)));
+            }
             for chunk in members.chunks(LANES) {
                 let first = self.slot_index.len();
                 let mut batch = Batch {
@@ -860,13 +890,11 @@ impl LaneSolver {
             }
         }
         self.batch_start.push(self.batches.len());
-        self.used.clear();
-        self.used.extend((0..COLOURS).filter(|&c| self.batch_start[c + 1] > self.batch_start[c]));
     }
 
     /// The number of colours in use and of the manifolds left to the overflow.
     pub fn colours_used(&self) -> (usize, usize) {
-        (self.used.len(), self.overflow.len())
+        (self.used.len(), self.overflow.len() - self.singles.len())
     }
 
     /// The manifolds in the order the solver takes them: the colours' in batch order, then the
@@ -875,7 +903,7 @@ impl LaneSolver {
         &self.order
     }
 
-    /// The batches of colour `c`.
+    /// The batches of colour `c` (none for a colour of one manifold, which the scalar solver takes).
     pub fn colour_batches(&self, c: usize) -> Range<usize> {
         self.batch_start[c]..self.batch_start[c + 1]
     }
@@ -883,9 +911,15 @@ impl LaneSolver {
     /// Warm start of every manifold: the colours, then the overflow.
     pub fn warm_start(&mut self, constraints: &[Constraint], bodies: &mut [SolverBody]) {
         for k in 0..self.used.len() {
-            self.warm_start_batches(self.colour_batches(self.used[k]), bodies);
+            match self.used[k] {
+                Colour::Batches(first, end) => self.warm_start_batches(first..end, bodies),
+                Colour::Single(j) => {
+                    let (s, e) = self.overflow[j];
+                    warm_start_pair(&constraints[s..e], bodies);
+                }
+            }
         }
-        for &(s, e) in &self.overflow {
+        for &(s, e) in &self.overflow[self.singles.len()..] {
             warm_start_pair(&constraints[s..e], bodies);
         }
     }
@@ -893,9 +927,15 @@ impl LaneSolver {
     /// One sweep over every manifold: the colours, then the overflow.
     pub fn solve(&mut self, constraints: &mut [Constraint], bodies: &mut [SolverBody], sweep: &Sweep) {
         for k in 0..self.used.len() {
-            self.solve_batches(self.colour_batches(self.used[k]), bodies, sweep);
+            match self.used[k] {
+                Colour::Batches(first, end) => self.solve_batches(first..end, bodies, sweep),
+                Colour::Single(j) => {
+                    let (s, e) = self.overflow[j];
+                    solve_pair(&mut constraints[s..e], bodies, sweep);
+                }
+            }
         }
-        for &(s, e) in &self.overflow {
+        for &(s, e) in &self.overflow[self.singles.len()..] {
             solve_pair(&mut constraints[s..e], bodies, sweep);
         }
     }
@@ -1222,6 +1262,7 @@ mod tests {
     fn lanes_match(portable: bool) {
         let mut seen = Branches::default();
         let mut overflowed = 0;
+        let mut singles = 0;
         let mut zeros = 0;
         let mut values = 0;
         for seed in 1..=40u64 {
@@ -1234,6 +1275,7 @@ mod tests {
                 eprintln!("kernel: {}", if lanes.avx { "AVX2" } else { "portable f64x4" });
             }
             overflowed += lanes.colours_used().1;
+            singles += lanes.singles.len();
             let order = lanes.order().to_vec();
             let (mut sb, mut sc) = (bodies.clone(), constraints.clone());
             let (mut lb, mut lc) = (bodies, constraints);
@@ -1282,7 +1324,7 @@ mod tests {
                 }
             }
         }
-        eprintln!("branches {seen:?}, manifolds in the overflow {overflowed}, values compared {values}, zeros of opposite sign {zeros}");
+        eprintln!("branches {seen:?}, manifolds in the overflow {overflowed}, colours of one manifold {singles}, values compared {values}, zeros of opposite sign {zeros}");
         for (name, n) in [
             ("let go", seen.let_go),
             ("open", seen.open),
@@ -1294,6 +1336,7 @@ mod tests {
             assert!(n >= 50, "{name} taken {n} times");
         }
         assert!(overflowed > 0);
+        assert!(singles > 0);
     }
 
     /// The slots computed in the lanes from the manifolds and their points are those loaded from
