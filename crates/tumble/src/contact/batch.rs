@@ -139,7 +139,7 @@ struct Slot<L> {
     t2: V3<L>,
     adjusted_gap: L,
     normal_mass: L,
-    k_n: V3<L>,
+    k_tn: [L; 2],
     tangent_mass: [L; 4],
     tangent_k: [L; 3],
     ang_a: [V3<L>; 3],
@@ -191,7 +191,8 @@ impl Slot<f64x4> {
         set3(&mut self.t2, k, c.t2);
         set(&mut self.adjusted_gap, k, c.adjusted_gap);
         set(&mut self.normal_mass, k, c.normal_mass);
-        set3(&mut self.k_n, k, c.k_n);
+        set(&mut self.k_tn[0], k, c.k_tn[0]);
+        set(&mut self.k_tn[1], k, c.k_tn[1]);
         for j in 0..4 {
             set(&mut self.tangent_mass[j], k, c.tangent_mass[j]);
         }
@@ -273,8 +274,7 @@ impl<L: SolveLanes> Slot<L> {
         let dn = new - l0;
 
         // friction: sticking inside the disc, else the disc's point nearest λ* in the metric of K_tt
-        let u = u.add(self.k_n.scale(dn));
-        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        let (ux, uy) = (u.dot(self.t1) + dn * self.k_tn[0], u.dot(self.t2) + dn * self.k_tn[1]);
         let m = self.tangent_mass;
         let mut l1 = self.lambda[1] - (m[0] * ux + m[1] * uy);
         let mut l2 = self.lambda[2] - (m[2] * ux + m[3] * uy);
@@ -425,17 +425,11 @@ pub(super) struct PointInput<'a> {
 /// replaced by zeros).
 const INERT_POINT: ContactPoint = ContactPoint { point: DVec3::ZERO, n: DVec3::Z, gap: 0.0, lambda: [0.0; 3] };
 
-/// `ã`, the cross-product matrix of `a` by columns, as [`crate::math::skew`].
+/// `K d = (1/m_a + 1/m_b) d + (I_a⁻¹ (r_a × d)) × r_a + (I_b⁻¹ (r_b × d)) × r_b` from the angular
+/// responses `[I_a⁻¹ (r_a × d), I_b⁻¹ (r_b × d)]`, as in [`Constraint::new`].
 #[inline(always)]
-fn skew<L: SolveLanes>(a: V3<L>) -> [V3<L>; 3] {
-    let zero = L::splat(0.0);
-    [V3 { x: zero, y: a.z, z: a.y.neg() }, V3 { x: a.z.neg(), y: zero, z: a.x }, V3 { x: a.y, y: a.x.neg(), z: zero }]
-}
-
-/// `A B` of columns, as `DMat3 * DMat3` (each column `A b_j` by [`mat_vec`]).
-#[inline(always)]
-fn mat_mat<L: SolveLanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> [V3<L>; 3] {
-    [mat_vec(a, b[0]), mat_vec(a, b[1]), mat_vec(a, b[2])]
+fn k_times<L: SolveLanes>(d: V3<L>, inv_mass: L, ang: [V3<L>; 2], r_a: V3<L>, r_b: V3<L>) -> V3<L> {
+    d.scale(inv_mass).add(ang[0].cross(r_a)).add(ang[1].cross(r_b))
 }
 
 /// Four lanes of the scalars `f(0)…f(3)`.
@@ -503,26 +497,33 @@ fn load_points_in<L: SolveLanes>(
             let point = V3::<L>::gather(|k| p(k).point);
             let gap = lanes_of::<L>(|k| p(k).gap);
             let (r_a, r_b) = (point.sub(center_a), point.sub(center_b));
-            // K = (1/m_a + 1/m_b) 1 − r̃_b I_b⁻¹ r̃_b − r̃_a I_a⁻¹ r̃_a (`impact::collision_matrix`)
-            let (sa, sb) = (skew(r_a), skew(r_b));
-            let kb = mat_mat(&mat_mat(&sb, &inertia_b), &sb);
-            let ka = mat_mat(&mat_mat(&sa, &inertia_a), &sa);
-            let k = [
-                V3 { x: inv_mass, y: zero, z: zero }.sub(kb[0]).sub(ka[0]),
-                V3 { x: zero, y: inv_mass, z: zero }.sub(kb[1]).sub(ka[1]),
-                V3 { x: zero, y: zero, z: inv_mass }.sub(kb[2]).sub(ka[2]),
-            ];
             // the tangents, as `impact::tangent_basis` (glam's `any_orthonormal_vector`)
             let sign = lanes_of::<L>(|k| p(k).n.z.signum());
             let a = L::splat(-1.0) / (sign + n.z);
             let b = n.x * n.y * a;
             let t1 = V3 { x: b, y: sign + n.y * n.y * a, z: n.y.neg() };
             let t2 = n.cross(t1);
-            let k_n = mat_vec(&k, n);
+            let ang_a = [
+                mat_vec(&inertia_a, r_a.cross(n)),
+                mat_vec(&inertia_a, r_a.cross(t1)),
+                mat_vec(&inertia_a, r_a.cross(t2)),
+            ];
+            let ang_b = [
+                mat_vec(&inertia_b, r_b.cross(n)),
+                mat_vec(&inertia_b, r_b.cross(t1)),
+                mat_vec(&inertia_b, r_b.cross(t2)),
+            ];
+            // K d = (1/m_a + 1/m_b) d + (I_a⁻¹ (r_a × d)) × r_a + (I_b⁻¹ (r_b × d)) × r_b, as
+            // `Constraint::new`
+            let (k_n, k_t1, k_t2) = (
+                k_times(n, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b),
+                k_times(t1, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b),
+                k_times(t2, inv_mass, [ang_a[2], ang_b[2]], r_a, r_b),
+            );
             let knn = n.dot(k_n);
-            let k11 = t1.dot(mat_vec(&k, t1));
-            let k12 = t1.dot(mat_vec(&k, t2));
-            let k22 = t2.dot(mat_vec(&k, t2));
+            let k11 = t1.dot(k_t1);
+            let k12 = t1.dot(k_t2);
+            let k22 = t2.dot(k_t2);
             let det = k11 * k22 - k12 * k12;
             let invertible = valid & det.gt(zero);
             let cross_mass = keep(invertible, k12.neg() / det);
@@ -533,19 +534,11 @@ fn load_points_in<L: SolveLanes>(
             slot.t2 = keep3(valid, t2);
             slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
             slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
-            slot.k_n = keep3(valid, k_n);
+            slot.k_tn = [keep(valid, t1.dot(k_n)), keep(valid, t2.dot(k_n))];
             slot.tangent_mass = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
             slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
-            slot.ang_a = [
-                keep3(valid, mat_vec(&inertia_a, r_a.cross(n))),
-                keep3(valid, mat_vec(&inertia_a, r_a.cross(t1))),
-                keep3(valid, mat_vec(&inertia_a, r_a.cross(t2))),
-            ];
-            slot.ang_b = [
-                keep3(valid, mat_vec(&inertia_b, r_b.cross(n))),
-                keep3(valid, mat_vec(&inertia_b, r_b.cross(t1))),
-                keep3(valid, mat_vec(&inertia_b, r_b.cross(t2))),
-            ];
+            slot.ang_a = ang_a.map(|v| keep3(valid, v));
+            slot.ang_b = ang_b.map(|v| keep3(valid, v));
             slot.mu = keep(valid, mu);
             slot.bias_rate = keep(valid, bias_rate);
             slot.mass_scale = keep(valid, mass_scale);
@@ -1444,7 +1437,7 @@ mod tests {
         let fields: Vec<f64x4> = [
             [s.r_a.x, s.r_a.y, s.r_a.z, s.r_b.x, s.r_b.y, s.r_b.z].as_slice(),
             &[s.n.x, s.n.y, s.n.z, s.t1.x, s.t1.y, s.t1.z, s.t2.x, s.t2.y, s.t2.z],
-            &[s.adjusted_gap, s.normal_mass, s.k_n.x, s.k_n.y, s.k_n.z],
+            &[s.adjusted_gap, s.normal_mass, s.k_tn[0], s.k_tn[1]],
             &s.tangent_mass,
             &s.tangent_k,
             &s.ang_a.iter().chain(&s.ang_b).flat_map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),

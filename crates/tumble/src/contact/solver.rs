@@ -90,8 +90,9 @@ pub struct Constraint {
     pub adjusted_gap: f64,
     /// `1/(nᵀKn)` (kg).
     pub normal_mass: f64,
-    /// `K n` (1/kg): the change of the relative velocity per unit normal impulse.
-    pub k_n: DVec3,
+    /// `t1·K n`, `t2·K n` (1/kg): the change of the tangential relative velocity per unit normal
+    /// impulse (what friction sees of the normal impulse just applied).
+    pub k_tn: [f64; 2],
     /// `K_tt⁻¹` as `[[a, b], [c, d]]` (kg).
     pub tangent_mass: [f64; 4],
     /// `K_tt` as `[k11, k12, k22]` (1/kg).
@@ -310,10 +311,16 @@ impl Constraint {
     ) -> Self {
         let (ba, bb) = (&bodies[a], &bodies[b]);
         let (r_a, r_b) = (point - positions[a], point - positions[b]);
-        let k = super::impact::collision_matrix(ba.inv_mass, ba.inv_inertia, r_a, bb.inv_mass, bb.inv_inertia, r_b);
         let (t1, t2) = tangent_basis(n);
-        let knn = n.dot(k * n);
-        let (k11, k12, k22) = (t1.dot(k * t1), t1.dot(k * t2), t2.dot(k * t2));
+        let ang_a = [n, t1, t2].map(|d| ba.inv_inertia * r_a.cross(d));
+        let ang_b = [n, t1, t2].map(|d| bb.inv_inertia * r_b.cross(d));
+        // K d along the three directions, K = (1/m_a + 1/m_b) 1 − r̃_a I_a⁻¹ r̃_a − r̃_b I_b⁻¹ r̃_b
+        // (`impact::collision_matrix`) without forming K: −r̃ I⁻¹ r̃ d = (I⁻¹ (r × d)) × r
+        let inv_mass = ba.inv_mass + bb.inv_mass;
+        let k_times = |j: usize, d: DVec3| inv_mass * d + ang_a[j].cross(r_a) + ang_b[j].cross(r_b);
+        let (k_n, k_t1, k_t2) = (k_times(0, n), k_times(1, t1), k_times(2, t2));
+        let knn = n.dot(k_n);
+        let (k11, k12, k22) = (t1.dot(k_t1), t1.dot(k_t2), t2.dot(k_t2));
         let det = k11 * k22 - k12 * k12;
         let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
         Self {
@@ -326,11 +333,11 @@ impl Constraint {
             t2,
             adjusted_gap: gap - n.dot(r_b - r_a),
             normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
-            k_n: k * n,
+            k_tn: [t1.dot(k_n), t2.dot(k_n)],
             tangent_mass,
             tangent_k: [k11, k12, k22],
-            ang_a: [n, t1, t2].map(|d| ba.inv_inertia * r_a.cross(d)),
-            ang_b: [n, t1, t2].map(|d| bb.inv_inertia * r_b.cross(d)),
+            ang_a,
+            ang_b,
             mu,
             softness,
             speculative: gap > 0.0,
@@ -399,9 +406,9 @@ impl Constraint {
         // (maximum dissipation), which the plain Euclidean clamp would not do when K_tt is not
         // isotropic. λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*, with ν ≥ 0 the root of the secular equation
         // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from below).
-        // the relative velocity after the normal impulse, u + Δλ_n K n (applied with friction's, once)
-        let u = u + dn * self.k_n;
-        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        // the tangential relative velocity after the normal impulse, t·u + Δλ_n t·K n (the impulse
+        // is applied with friction's, once): the tangential dots wait only for Δλ_n's product
+        let (ux, uy) = (u.dot(self.t1) + dn * self.k_tn[0], u.dot(self.t2) + dn * self.k_tn[1]);
         let m = self.tangent_mass;
         let (l1, l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
         let limit = self.mu * self.lambda[0];
