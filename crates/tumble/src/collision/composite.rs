@@ -100,7 +100,7 @@ impl Colliders {
                 }
                 let point_world = 0.5 * (sub_i * c.local_p1 + sub_j * c.local_p2);
                 if let Some(twin) = out[first..].iter_mut().find(|o| {
-                    (o.point_world - point_world).length() < DUPLICATE_DISTANCE
+                    (o.point_world - point_world).length_squared() < DUPLICATE_DISTANCE * DUPLICATE_DISTANCE
                         && o.normal_world.dot(normal_world) > SAME_NORMAL_COSINE
                 }) {
                     twin.gap = twin.gap.min(c.dist);

@@ -506,7 +506,7 @@ fn manifold_contacts(
             }
             let point_world = 0.5 * (sub_a * c.local_p1 + sub_b * c.local_p2);
             if let Some(twin) = out[first..].iter_mut().find(|o| {
-                (o.point_world - point_world).length() < DUPLICATE_DISTANCE
+                (o.point_world - point_world).length_squared() < DUPLICATE_DISTANCE * DUPLICATE_DISTANCE
                     && o.normal_world.dot(normal_world) > 1.0 - 1e-6
             }) {
                 twin.gap = twin.gap.min(c.dist);

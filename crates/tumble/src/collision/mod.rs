@@ -435,8 +435,9 @@ impl Colliders {
             let p2 = pose_j * c.local_p2;
             let point_world = 0.5 * (p1 + p2);
             // aligned faces give each corner twice (one per face): keep one point per place, the deeper
-            if let Some(twin) =
-                out[first..].iter_mut().find(|o| (o.point_world - point_world).length() < DUPLICATE_DISTANCE)
+            if let Some(twin) = out[first..]
+                .iter_mut()
+                .find(|o| (o.point_world - point_world).length_squared() < DUPLICATE_DISTANCE * DUPLICATE_DISTANCE)
             {
                 if c.dist < twin.gap {
                     twin.gap = c.dist;

@@ -139,7 +139,7 @@ struct Slot<L> {
     t2: V3<L>,
     adjusted_gap: L,
     normal_mass: L,
-    k_tn: [L; 2],
+    tangent_per_normal: [L; 2],
     tangent_mass: [L; 4],
     tangent_k: [L; 3],
     ang_a: [V3<L>; 3],
@@ -191,8 +191,8 @@ impl Slot<f64x4> {
         set3(&mut self.t2, k, c.t2);
         set(&mut self.adjusted_gap, k, c.adjusted_gap);
         set(&mut self.normal_mass, k, c.normal_mass);
-        set(&mut self.k_tn[0], k, c.k_tn[0]);
-        set(&mut self.k_tn[1], k, c.k_tn[1]);
+        set(&mut self.tangent_per_normal[0], k, c.tangent_per_normal[0]);
+        set(&mut self.tangent_per_normal[1], k, c.tangent_per_normal[1]);
         for j in 0..4 {
             set(&mut self.tangent_mass[j], k, c.tangent_mass[j]);
         }
@@ -270,14 +270,16 @@ impl<L: SolveLanes> Slot<L> {
         let mass_scale = open.select(L::splat(1.0), closed_mass);
         let impulse_scale = open.select(zero, closed_impulse);
         let l0 = self.lambda[0];
-        let new = (l0 - self.normal_mass * mass_scale * (un + bias) - impulse_scale * l0).max(zero);
+        let mass = self.normal_mass * mass_scale;
+        let rest = l0 - mass * bias - impulse_scale * l0;
+        let new = (rest - mass * un).max(zero);
         let dn = new - l0;
 
         // friction: sticking inside the disc, else the disc's point nearest λ* in the metric of K_tt
-        let (ux, uy) = (u.dot(self.t1) + dn * self.k_tn[0], u.dot(self.t2) + dn * self.k_tn[1]);
-        let m = self.tangent_mass;
-        let mut l1 = self.lambda[1] - (m[0] * ux + m[1] * uy);
-        let mut l2 = self.lambda[2] - (m[2] * ux + m[3] * uy);
+        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        let (m, f) = (self.tangent_mass, self.tangent_per_normal);
+        let mut l1 = self.lambda[1] - (m[0] * ux + m[1] * uy) - dn * f[0];
+        let mut l2 = self.lambda[2] - (m[2] * ux + m[3] * uy) - dn * f[1];
         let limit = self.mu * new;
         let sliding = (l1 * l1 + l2 * l2).gt(limit * limit);
         if sliding.any() {
@@ -534,8 +536,10 @@ fn load_points_in<L: SolveLanes>(
             slot.t2 = keep3(valid, t2);
             slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
             slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
-            slot.k_tn = [keep(valid, t1.dot(k_n)), keep(valid, t2.dot(k_n))];
-            slot.tangent_mass = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+            let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
+            let m = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+            slot.tangent_mass = m;
+            slot.tangent_per_normal = [keep(valid, m[0] * k1n + m[1] * k2n), keep(valid, m[2] * k1n + m[3] * k2n)];
             slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
             slot.ang_a = ang_a.map(|v| keep3(valid, v));
             slot.ang_b = ang_b.map(|v| keep3(valid, v));
@@ -1437,7 +1441,7 @@ mod tests {
         let fields: Vec<f64x4> = [
             [s.r_a.x, s.r_a.y, s.r_a.z, s.r_b.x, s.r_b.y, s.r_b.z].as_slice(),
             &[s.n.x, s.n.y, s.n.z, s.t1.x, s.t1.y, s.t1.z, s.t2.x, s.t2.y, s.t2.z],
-            &[s.adjusted_gap, s.normal_mass, s.k_tn[0], s.k_tn[1]],
+            &[s.adjusted_gap, s.normal_mass, s.tangent_per_normal[0], s.tangent_per_normal[1]],
             &s.tangent_mass,
             &s.tangent_k,
             &s.ang_a.iter().chain(&s.ang_b).flat_map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>(),

@@ -90,9 +90,9 @@ pub struct Constraint {
     pub adjusted_gap: f64,
     /// `1/(nᵀKn)` (kg).
     pub normal_mass: f64,
-    /// `t1·K n`, `t2·K n` (1/kg): the change of the tangential relative velocity per unit normal
-    /// impulse (what friction sees of the normal impulse just applied).
-    pub k_tn: [f64; 2],
+    /// `K_tt⁻¹ (t1·K n, t2·K n)` (dimensionless): the tangential impulse that cancels the tangential
+    /// velocity a unit normal impulse gives (what friction sees of the normal impulse just applied).
+    pub tangent_per_normal: [f64; 2],
     /// `K_tt⁻¹` as `[[a, b], [c, d]]` (kg).
     pub tangent_mass: [f64; 4],
     /// `K_tt` as `[k11, k12, k22]` (1/kg).
@@ -333,7 +333,11 @@ impl Constraint {
             t2,
             adjusted_gap: gap - n.dot(r_b - r_a),
             normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
-            k_tn: [t1.dot(k_n), t2.dot(k_n)],
+            tangent_per_normal: {
+                let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
+                let m = tangent_mass;
+                [m[0] * k1n + m[1] * k2n, m[2] * k1n + m[3] * k2n]
+            },
             tangent_mass,
             tangent_k: [k11, k12, k22],
             ang_a,
@@ -395,8 +399,10 @@ impl Constraint {
         } else {
             (0.0, 1.0, 0.0)
         };
-        let new =
-            (self.lambda[0] - self.normal_mass * mass_scale * (un + bias) - impulse_scale * self.lambda[0]).max(0.0);
+        // λ_n ← max(0, λ_n − m_n s_m (u_n + b) − s_i λ_n), the terms that do not wait for u_n first
+        let mass = self.normal_mass * mass_scale;
+        let rest = self.lambda[0] - mass * bias - impulse_scale * self.lambda[0];
+        let new = (rest - mass * un).max(0.0);
         let dn = new - self.lambda[0];
         self.lambda[0] = new;
 
@@ -406,11 +412,13 @@ impl Constraint {
         // (maximum dissipation), which the plain Euclidean clamp would not do when K_tt is not
         // isotropic. λ(ν) = (K_tt + ν 1)⁻¹ K_tt λ*, with ν ≥ 0 the root of the secular equation
         // 1/|λ(ν)| = 1/(μ λ_n), by Newton's method (Moré & Sorensen 1983: concave, converges from below).
-        // the tangential relative velocity after the normal impulse, t·u + Δλ_n t·K n (the impulse
-        // is applied with friction's, once): the tangential dots wait only for Δλ_n's product
-        let (ux, uy) = (u.dot(self.t1) + dn * self.k_tn[0], u.dot(self.t2) + dn * self.k_tn[1]);
-        let m = self.tangent_mass;
-        let (l1, l2) = (self.lambda[1] - (m[0] * ux + m[1] * uy), self.lambda[2] - (m[2] * ux + m[3] * uy));
+        // λ* from the tangential velocity after the normal impulse, u_t + Δλ_n (t·K n) (the impulse is
+        // applied with friction's, once): λ_t − K_tt⁻¹ u_t, computed beside the normal row, minus
+        // Δλ_n K_tt⁻¹ (t·K n), the one product that waits for Δλ_n
+        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        let (m, f) = (self.tangent_mass, self.tangent_per_normal);
+        let l1 = self.lambda[1] - (m[0] * ux + m[1] * uy) - dn * f[0];
+        let l2 = self.lambda[2] - (m[2] * ux + m[3] * uy) - dn * f[1];
         let limit = self.mu * self.lambda[0];
         let (l1, l2) = friction_on_disc(self.tangent_k, l1, l2, limit);
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
