@@ -73,6 +73,10 @@ const MIN_CELLS: f64 = 64.0;
 /// The relative margin of the cell side over the widest small box.
 const CELL_MARGIN: f64 = 1e-6;
 
+/// Up to this many bodies with a box, every pair of them is tested and no grid is made: a ten-box
+/// tower's 55 tests cost less than the grid's lattice, counting sort and neighbour runs.
+pub const ALL_PAIRS_MAX: usize = 16;
+
 /// A body's partners beyond this many are sorted by `sort_unstable` rather than insertion sort.
 const INSERTION_SORT_MAX: usize = 32;
 
@@ -300,6 +304,18 @@ impl Grid {
         self.found.clear();
         self.large.clear();
         self.small.clear();
+        if self.boxed.len() <= ALL_PAIRS_MAX {
+            // the same pairs as the grid's (the pairs of overlapping boxes not both resting), each
+            // pair tested; `boxed` is in index order, so each pair comes as (min, max)
+            for (k, &i) in self.boxed.iter().enumerate() {
+                for &j in &self.boxed[k + 1..] {
+                    if overlap(&aabbs[i], &aabbs[j]) && !(self.fixed[i] && self.fixed[j]) {
+                        self.found.push((i, j));
+                    }
+                }
+            }
+            return self.found.len() <= budget;
+        }
         // small and large boxes; the widest small box and the box of their lower corners
         let (mut side, mut lowest, mut highest) =
             (0.0f64, DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
