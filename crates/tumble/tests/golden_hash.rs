@@ -53,7 +53,9 @@ use tumble::World;
 /// of forming `K`, and the normal and friction rows to add the terms that wait for the point's
 /// velocity last (`(λ_n − m b − s_i λ_n) − m u_n`, `λ* = (λ_t − K_tt⁻¹ u_t) − Δλ_n K_tt⁻¹ (t·K n)`):
 /// the same quantities rounded otherwise, the pyramid at step 300 (sleeping on) within 1e-4 m of
-/// where it was; the balls (the cross terms vanish for a sphere) and the quadruped kept theirs.
+/// where it was; the quadruped and the balls sleeping on kept theirs. The balls' sleeping-off value
+/// moved with it (was 0x7dd2_4454_3f7c_0cad): their resting rows round the normal impulse otherwise,
+/// velocities moved by at most 1.4e-16 m/s and no position sampled once a second moved a bit.
 const GOLDEN: [(&str, u64, u64); 3] = [
     ("pyramid", 300, 0x6246_010b_9347_46f9),
     ("balls", 300, 0xf830_4cf1_40ac_8e65),
@@ -64,7 +66,7 @@ const GOLDEN: [(&str, u64, u64); 3] = [
 /// the step must still give bit for bit.
 const GOLDEN_AWAKE: [(&str, u64, u64); 3] = [
     ("pyramid", 300, 0xa99e_6adf_eacf_fe2a),
-    ("balls", 300, 0x7dd2_4454_3f7c_0cad),
+    ("balls", 300, 0xc4c1_0988_cdda_d5fd),
     ("quadruped", 400, 0xa637_b67e_301e_528c),
 ];
 

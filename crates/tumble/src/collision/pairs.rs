@@ -123,9 +123,15 @@ impl PairManifolds {
                 PairManifold { manifold: std::mem::take(&mut e.manifold), ..*e }
             }
             None => {
-                let mut manifold = self.pool.pop().unwrap_or_default();
-                manifold.points.clear();
-                manifold.points.reserve(POINTS_RESERVED);
+                // a pair that left gives its buffer, nothing else: parry's manifold also keeps a
+                // normal and sub-shapes, which its next computation may start from (a search for
+                // the separating direction), and a new pair's first manifold must not depend on
+                // which pair left before it (the same scene with one pair fewer elsewhere gave a
+                // capsule's contact depth another last bit)
+                let mut points = self.pool.pop().map(|m| m.points).unwrap_or_default();
+                points.clear();
+                points.reserve(POINTS_RESERVED);
+                let manifold = ContactManifold { points, ..ContactManifold::default() };
                 PairManifold { pair, manifold, pos12: Pose::IDENTITY, prediction: -1.0 }
             }
         };
@@ -356,5 +362,42 @@ mod tests {
         // reused: the gaps follow the pose
         e.reuse(&moved(5e-5, 0.0));
         assert!(e.manifold.points.iter().all(|p| (p.dist - 5e-5).abs() < 1e-12));
+    }
+
+    /// A new pair's first manifold does not depend on which pair left the buffer it takes: a
+    /// capsule on a box (parry's search for the separating direction, which may start from the
+    /// manifold's normal) made in a buffer that another pair left, at another pose, is the one a
+    /// fresh buffer gives, bit for bit.
+    #[test]
+    fn a_new_pair_does_not_inherit_a_normal() {
+        let (capsule, box_) = (SharedShape::capsule_z(0.5, 0.2), SharedShape::cuboid(0.5, 0.4, 0.3));
+        let pose = |k: f64| {
+            Pose::from_parts(
+                DVec3::new(0.3 * k.sin(), -0.2 * k.cos(), 0.95 + 0.01 * k),
+                quat_exp(DVec3::new(0.4 * k, -0.9 + 0.3 * k, 0.2) * 0.8),
+            )
+        };
+        let mut compared = 0;
+        for k in 0..12 {
+            let (before, after) = (pose(k as f64), pose(k as f64 + 3.7));
+            let mut fresh =
+                PairManifold { pair: (2, 3), manifold: ContactManifold::new(), pos12: after, prediction: -1.0 };
+            fresh.make(&after, capsule.as_ref(), box_.as_ref(), 0.05);
+            let mut m = PairManifolds::default();
+            m.begin_step();
+            m.entry((0, 1)).make(&before, box_.as_ref(), capsule.as_ref(), 0.05);
+            m.end_step();
+            m.begin_step();
+            let reused = m.entry((2, 3));
+            reused.make(&after, capsule.as_ref(), box_.as_ref(), 0.05);
+            let (a, b) = (&fresh.manifold, &reused.manifold);
+            assert_eq!((a.local_n1, a.local_n2), (b.local_n1, b.local_n2), "pose {k}");
+            assert_eq!(a.points.len(), b.points.len(), "pose {k}");
+            for (p, q) in a.points.iter().zip(&b.points) {
+                assert_eq!((p.local_p1, p.local_p2, p.dist.to_bits()), (q.local_p1, q.local_p2, q.dist.to_bits()));
+                compared += 1;
+            }
+        }
+        assert!(compared > 10, "only {compared} points compared");
     }
 }

@@ -265,22 +265,44 @@ impl Colliders {
             return;
         }
         grid.sort_pairs(n);
-        self.emit_pairs(&grid, n);
+        self.emit_pairs(&grid, n, slop);
         self.grid = grid;
     }
 
     /// The sorted pairs found in `grid` with the plane pairs in their places, the excluded pairs
-    /// left out, into `self.pairs`.
-    fn emit_pairs(&mut self, grid: &Grid, n: usize) {
+    /// left out, into `self.pairs`; `slop` the broad phase's (m).
+    ///
+    /// A plane pairs with every free body with a box except those whose box lies wholly above it
+    /// by more than `slop / 2`: such a body's shape is more than its sweep plus `slop / 2` from the
+    /// plane (its box is its shape's bound grown by its sweep `w`, `|v| dt + … + slop / 2`, on every
+    /// axis, which along the unit normal is at least `w`), farther than the pair's prediction
+    /// `w + slop / 2`, so the narrow phase would find no contact (a ten-box tower's nine upper
+    /// boxes, the upper layers of a pile of balls).
+    fn emit_pairs(&mut self, grid: &Grid, n: usize, slop: f64) {
         let (planes, excluded) = (&self.planes, &self.excluded);
+        let (shapes, poses, aabbs) = (&self.shapes, &self.poses, &self.aabbs);
         let kept = |i: usize, j: usize| excluded.is_empty() || excluded.binary_search(&(i.min(j), i.max(j))).is_err();
         // `planes` is in index order: the next plane's place
         let mut next_plane = 0;
         for i in 0..n {
             if planes.get(next_plane) == Some(&i) {
                 next_plane += 1;
-                // every free body with a box (not a plane: not `i`)
+                // the plane's unit outward normal and offset, world frame: its solid is n·x ≤ offset
+                let normal = shapes[i].as_ref().and_then(|s| s.as_halfspace()).map(|h| h.normal);
+                let (normal, offset) = match normal {
+                    Some(local) => {
+                        let n = poses[i].rotation * local;
+                        (n, n.dot(poses[i].translation))
+                    }
+                    None => (DVec3::ZERO, f64::INFINITY),
+                };
+                // every free body with a box (not a plane: not `i`) that is not wholly above it
                 for &k in &grid.free_boxed {
+                    let aabb = &aabbs[k];
+                    let lowest = normal.dot(aabb.center()) - offset - normal.abs().dot(aabb.half_extents());
+                    if lowest > 0.5 * slop {
+                        continue;
+                    }
                     if kept(i, k) {
                         self.pairs.push((i, k));
                     }
