@@ -5,8 +5,8 @@
 //!
 //! `lo_i,k ≤ hi_j,k ∧ lo_j,k ≤ hi_i,k` for `k = x, y, z`,
 //!
-//! without pairs of two fixed bodies; each plane (unbounded) paired with every free body; the
-//! scene's excluded pairs left out; sorted by `(i, j)`. A body's box is its shape's box at the
+//! without pairs of two fixed bodies; each plane (unbounded) paired with every free body whose
+//! box reaches within half the prediction margin of it; the scene's excluded pairs left out; sorted by `(i, j)`. A body's box is its shape's box at the
 //! start of the step grown by the distance it can travel in the step (`|v| dt + |ω| ρ dt +
 //! ½ |g_body| dt²`, `ρ` the bounding radius) and half the prediction margin. The pairs depend on
 //! the boxes alone, not on how they were found: the grid below gives the set a test of every pair
@@ -56,6 +56,7 @@ use crate::body::RigidBody;
 use crate::math::DVec3;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
+use parry3d_f64::shape::SharedShape;
 
 #[cfg(test)]
 mod tests;
@@ -94,6 +95,38 @@ fn overlap(a: &Aabb, b: &Aabb) -> bool {
         & (b.mins.y <= a.maxs.y)
         & (a.mins.z <= b.maxs.z)
         & (b.mins.z <= a.maxs.z)
+}
+
+/// A plane's side, world frame: its unit outward normal and offset (its solid is `n·x ≤ offset`);
+/// for a shape that is not a half-space, an offset of +∞: every box reaches it.
+#[derive(Debug, Clone, Copy)]
+struct PlaneSide {
+    normal: DVec3,
+    offset: f64,
+}
+
+impl PlaneSide {
+    fn of(shape: Option<&SharedShape>, pose: &Pose) -> Self {
+        match shape.and_then(|s| s.as_halfspace()) {
+            Some(h) => {
+                let normal = pose.rotation * h.normal;
+                Self { normal, offset: normal.dot(pose.translation) }
+            }
+            None => Self { normal: DVec3::ZERO, offset: f64::INFINITY },
+        }
+    }
+
+    /// Whether a body with the swept box `aabb` pairs with the plane: not when the box lies wholly
+    /// above it by more than `slop / 2`. Such a body's shape is more than its sweep plus `slop / 2`
+    /// from the plane (its box is its shape's bound grown by its sweep `w`, `|v| dt + … + slop / 2`,
+    /// on every axis, which along the unit normal is at least `w`), farther than the pair's
+    /// prediction `w + slop / 2`, so the narrow phase would find no contact (a ten-box tower's nine
+    /// upper boxes, the upper layers of a pile of balls).
+    #[inline]
+    fn reaches(&self, aabb: &Aabb, slop: f64) -> bool {
+        let lowest = self.normal.dot(aabb.center()) - self.offset - self.normal.abs().dot(aabb.half_extents());
+        lowest <= 0.5 * slop
+    }
 }
 
 /// The cells: origin (the least lower corner of the small boxes), inverse side and counts.
@@ -255,8 +288,16 @@ impl Colliders {
             return;
         }
         let large_width = LARGE_FACTOR * width_sum / widths.max(1) as f64;
-        // each plane pairs with every free body with a box: what is left of the budget for the rest
-        let plane_pairs = self.planes.len().saturating_mul(grid.free_boxed.len());
+        // each plane pairs with the free bodies with a box that reach it: what is left of the
+        // budget for the rest
+        let plane_pairs: usize = self
+            .planes
+            .iter()
+            .map(|&p| {
+                let side = PlaneSide::of(self.shapes[p].as_ref(), &self.poses[p]);
+                grid.free_boxed.iter().filter(|&&k| side.reaches(&self.aabbs[k], slop)).count()
+            })
+            .sum();
         let budget = self.pair_budget.saturating_sub(plane_pairs);
         if !grid.find_pairs(&self.aabbs, large_width, budget) || plane_pairs > self.pair_budget {
             self.over_budget = Some(grid.found.len().saturating_add(plane_pairs));
@@ -270,40 +311,20 @@ impl Colliders {
     }
 
     /// The sorted pairs found in `grid` with the plane pairs in their places, the excluded pairs
-    /// left out, into `self.pairs`; `slop` the broad phase's (m).
-    ///
-    /// A plane pairs with every free body with a box except those whose box lies wholly above it
-    /// by more than `slop / 2`: such a body's shape is more than its sweep plus `slop / 2` from the
-    /// plane (its box is its shape's bound grown by its sweep `w`, `|v| dt + … + slop / 2`, on every
-    /// axis, which along the unit normal is at least `w`), farther than the pair's prediction
-    /// `w + slop / 2`, so the narrow phase would find no contact (a ten-box tower's nine upper
-    /// boxes, the upper layers of a pile of balls).
+    /// left out, into `self.pairs`; `slop` the broad phase's (m). A plane pairs with every free
+    /// body with a box that reaches it ([`PlaneSide::reaches`]).
     fn emit_pairs(&mut self, grid: &Grid, n: usize, slop: f64) {
         let (planes, excluded) = (&self.planes, &self.excluded);
-        let (shapes, poses, aabbs) = (&self.shapes, &self.poses, &self.aabbs);
         let kept = |i: usize, j: usize| excluded.is_empty() || excluded.binary_search(&(i.min(j), i.max(j))).is_err();
         // `planes` is in index order: the next plane's place
         let mut next_plane = 0;
         for i in 0..n {
             if planes.get(next_plane) == Some(&i) {
                 next_plane += 1;
-                // the plane's unit outward normal and offset, world frame: its solid is n·x ≤ offset
-                let normal = shapes[i].as_ref().and_then(|s| s.as_halfspace()).map(|h| h.normal);
-                let (normal, offset) = match normal {
-                    Some(local) => {
-                        let n = poses[i].rotation * local;
-                        (n, n.dot(poses[i].translation))
-                    }
-                    None => (DVec3::ZERO, f64::INFINITY),
-                };
-                // every free body with a box (not a plane: not `i`) that is not wholly above it
+                let side = PlaneSide::of(self.shapes[i].as_ref(), &self.poses[i]);
+                // every free body with a box (not a plane: not `i`) that reaches it
                 for &k in &grid.free_boxed {
-                    let aabb = &aabbs[k];
-                    let lowest = normal.dot(aabb.center()) - offset - normal.abs().dot(aabb.half_extents());
-                    if lowest > 0.5 * slop {
-                        continue;
-                    }
-                    if kept(i, k) {
+                    if side.reaches(&self.aabbs[k], slop) && kept(i, k) {
                         self.pairs.push((i, k));
                     }
                 }

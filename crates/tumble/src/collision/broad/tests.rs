@@ -323,6 +323,39 @@ fn a_heap_at_one_spot_stops_at_the_pair_budget() {
     assert_eq!((c.pairs_over_budget(), c.pairs.len()), (None, all));
 }
 
+/// The budget counts the plane pairs the broad phase gives, not one per plane and free body: ten
+/// balls apart in a row, the lowest resting on the ground plane and the others high above it, make
+/// one pair with a budget of one; two on the ground make two, over a budget of one.
+#[test]
+fn the_budget_counts_only_the_plane_pairs_made() {
+    let ball = |x: f64, z: f64| {
+        body(&Spec {
+            kind: 1,
+            size: [0.5; 3],
+            position: [x, 0.0, z],
+            turn: [0.0; 3],
+            velocity: [0.0; 3],
+            omega: [0.0; 3],
+            fixed: false,
+        })
+    };
+    let mut bodies: Vec<RigidBody> = (0..10).map(|k| ball(3.0 * k as f64, if k == 0 { 0.5 } else { 5.0 })).collect();
+    bodies[0].shape = Some(Shape::Plane);
+    bodies[0].fixed = true;
+    bodies[0].state.position = DVec3::ZERO;
+    bodies[1].state.position.z = 0.5;
+    let mut c = Colliders::new(&bodies);
+    c.set_pair_budget(1);
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), 0.01);
+    assert_eq!(c.pairs_over_budget(), None, "nine balls, one on the ground: one pair");
+    assert_eq!(c.pairs, [(0, 1)]);
+    assert_eq!(c.pairs, every_pair(&c, &bodies, 0.01));
+    bodies[2].state.position.z = 0.5;
+    c.broad_phase(&bodies, &[], 1.0 / 60.0, DVec3::new(0.0, 0.0, -9.81), 0.01);
+    assert_eq!(c.pairs_over_budget(), Some(2), "two on the ground: two pairs, over a budget of one");
+    assert!(c.pairs.is_empty());
+}
+
 /// A body asleep at two broad phases in a row keeps the box it had (no pose, no box made: its
 /// state cannot have changed, `contact::sleep` wakes a body the caller changed), and gets a new one
 /// when it wakes or when the step's settings change. Seen here by moving the body behind the
