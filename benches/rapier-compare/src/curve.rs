@@ -3,7 +3,9 @@
 //! Each engine has knobs that trade time for accuracy. Rapier: `num_solver_iterations` (its
 //! substeps, 1–16), `num_internal_pgs_iterations` (PGS passes in each) and its friction model
 //! (`Simplified`, the default: one friction row and a twist per manifold; `Coulomb`: friction at
-//! every point). tumble: `contact_substeps` and `contact_iterations`. Every setting runs the scene
+//! every point). tumble: `contact_substeps`, `contact_iterations` and its friction model (`point`,
+//! the default: friction at every point; `manifold`: one friction disc and a twist per manifold,
+//! an option). Every setting runs the scene
 //! with sleeping off (the work of every step) and gives a point: time per step, against the
 //! settling drift (the largest displacement of a moving body between the start and the end of the
 //! run) and the overlap (the deepest penetration between two shapes at the end, found by parry on
@@ -21,8 +23,8 @@ use std::time::Instant;
 /// One knob setting of one engine.
 #[derive(Clone, Copy, Debug)]
 pub enum Setting {
-    /// tumble: `contact_substeps`, `contact_iterations`.
-    Tumble { substeps: u32, iterations: u32 },
+    /// tumble: `contact_substeps`, `contact_iterations`, friction per manifold (else at every point).
+    Tumble { substeps: u32, iterations: u32, manifold: bool },
     /// Rapier: `num_solver_iterations`, `num_internal_pgs_iterations`, Coulomb friction at every
     /// point (else the default `Simplified` model).
     Rapier { iterations: usize, pgs: usize, coulomb: bool },
@@ -38,7 +40,9 @@ impl Setting {
 
     pub fn label(&self) -> String {
         match *self {
-            Setting::Tumble { substeps, iterations } => format!("substeps {substeps}, iterations {iterations}"),
+            Setting::Tumble { substeps, iterations, manifold } => {
+                format!("substeps {substeps}, iterations {iterations}{}", if manifold { ", manifold" } else { "" })
+            }
             Setting::Rapier { iterations, pgs, coulomb } => {
                 format!("iterations {iterations}, pgs {pgs}{}", if coulomb { ", Coulomb" } else { "" })
             }
@@ -48,7 +52,9 @@ impl Setting {
     fn is_default(&self) -> bool {
         let d = tumble::contact::ContactSettings::default();
         match *self {
-            Setting::Tumble { substeps, iterations } => substeps == d.substeps && iterations == d.iterations,
+            Setting::Tumble { substeps, iterations, manifold } => {
+                substeps == d.substeps && iterations == d.iterations && !manifold
+            }
             Setting::Rapier { iterations, pgs, coulomb } => {
                 let r = IntegrationParameters::default();
                 iterations == r.num_solver_iterations && pgs == r.num_internal_pgs_iterations && !coulomb
@@ -57,13 +63,15 @@ impl Setting {
     }
 }
 
-/// The settings swept: tumble's substeps × iterations, Rapier's iterations × PGS passes with its
-/// default friction, and its iterations with Coulomb friction.
+/// The settings swept: tumble's substeps × iterations with either friction model, Rapier's
+/// iterations × PGS passes with its default friction, and its iterations with Coulomb friction.
 pub fn settings() -> Vec<Setting> {
     let mut s = Vec::new();
-    for iterations in [1, 2] {
-        for substeps in [1, 2, 3, 4, 6, 8, 12] {
-            s.push(Setting::Tumble { substeps, iterations });
+    for manifold in [false, true] {
+        for iterations in [1, 2] {
+            for substeps in [1, 2, 3, 4, 6, 8, 12] {
+                s.push(Setting::Tumble { substeps, iterations, manifold });
+            }
         }
     }
     for pgs in [1, 2, 4] {
@@ -124,11 +132,14 @@ fn largest_displacement(world: &tumble::World, end: &[Option<Pose>]) -> f64 {
 /// Runs `world` for `steps` steps with `setting`, sleeping off.
 pub fn run(world: &tumble::World, steps: usize, setting: Setting) -> Point {
     match setting {
-        Setting::Tumble { substeps, iterations } => {
+        Setting::Tumble { substeps, iterations, manifold } => {
             let mut w = world.clone();
             w.config.contact.sleep = false;
             w.config.contact.substeps = substeps;
             w.config.contact.iterations = iterations;
+            if manifold {
+                w.config.contact.friction_model = tumble::contact::FrictionModel::Manifold;
+            }
             let t = Instant::now();
             for _ in 0..steps {
                 if let Err(e) = w.step() {
@@ -283,7 +294,8 @@ pub fn write_csv(curves: &[Curve], path: &Path) -> std::io::Result<()> {
 }
 
 /// The curves as an SVG, one panel per scene: time per step (log) against drift (log); each
-/// engine's points and its lower envelope (the fastest drift reached at each cost).
+/// engine's points (tumble's with friction per manifold hollow) and its lower envelope (the least
+/// drift reached at each cost).
 pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let width = 520 * curves.len() as u32;
@@ -332,7 +344,16 @@ pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Err
                 .draw_series(LineSeries::new(envelope, colour.stroke_width(2)))?
                 .label(engine)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
-            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+            // tumble's settings with friction per manifold drawn hollow
+            let hollow: Vec<(f64, f64)> = c
+                .points
+                .iter()
+                .filter(|(s, _)| matches!(s, Setting::Tumble { manifold: true, .. }) && engine == "tumble")
+                .map(|(_, p)| (p.ms_per_step, drift(p)))
+                .collect();
+            chart
+                .draw_series(pts.iter().filter(|p| !hollow.contains(p)).map(|&p| Circle::new(p, 3, colour.filled())))?;
+            chart.draw_series(hollow.iter().map(|&p| Circle::new(p, 3, colour.stroke_width(1))))?;
         }
         chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
     }

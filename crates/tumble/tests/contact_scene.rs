@@ -1,7 +1,7 @@
 //! The contact keys of scene files: `[world]` settings, per-body materials, bad input, and the
 //! shared scenes `pyramid` and `balls`.
 
-use tumble::contact::RestitutionLaw;
+use tumble::contact::{FrictionModel, RestitutionLaw};
 use tumble::scene::{from_str, Format};
 
 fn load(text: &str) -> Result<tumble::scene::Scene, String> {
@@ -25,6 +25,11 @@ fn world_contact_settings_are_read() {
     assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (false, 0.05, 2.0));
     let c = load("version = 1\n").unwrap().world.config.contact;
     assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (true, 0.01, 0.25));
+    assert_eq!(c.friction_model, FrictionModel::Point);
+    for model in [FrictionModel::Point, FrictionModel::Manifold] {
+        let text = format!("version = 1\n[world]\nfriction_model = \"{}\"\n", model.name());
+        assert_eq!(load(&text).unwrap().world.config.contact.friction_model, model);
+    }
 }
 
 #[test]
@@ -33,6 +38,7 @@ fn bad_contact_settings_name_the_field_and_the_line() {
         ("restitution = 1.5", "world.restitution"),
         ("friction = -0.1", "world.friction"),
         ("restitution_law = \"newtn\"", "world.restitution_law"),
+        ("friction_model = \"manifolds\"", "world.friction_model"),
         ("contact_iterations = 0", "world.contact_iterations"),
         ("contact_slop = -1.0", "world.contact_slop"),
         ("contact_hertz = -2.0", "world.contact_hertz"),
@@ -50,6 +56,8 @@ fn bad_contact_settings_name_the_field_and_the_line() {
     }
     let err = load("version = 1\n[world]\nrestitution_law = \"newtn\"\n").unwrap_err();
     assert!(err.contains("did you mean `newton`"), "{err}");
+    let err = load("version = 1\n[world]\nfriction_model = \"manifolds\"\n").unwrap_err();
+    assert!(err.contains("did you mean `manifold`") && err.contains("point, manifold"), "{err}");
 }
 
 #[test]

@@ -43,7 +43,10 @@
 //! and [`LaneSolver::warm_start_batches`] take a range of batches, which a parallel loop could split
 //! (fixed bodies are read, never written).
 
-use super::solver::{solve_pair, warm_start_pair, Constraint, ContactPoint, Manifold, Pass, SolverBody, Sweep};
+use super::solver::{
+    patch_frame, solve_pair, solve_patch_pair, warm_start_pair, warm_start_patch_pair, Constraint, ContactPoint,
+    FrictionModel, Manifold, Pass, Patch, SolverBody, Sweep,
+};
 use crate::integrate::lanes::{SolveLanes, V3};
 use crate::math::DVec3;
 use std::ops::Range;
@@ -241,20 +244,12 @@ impl<L: SolveLanes> Slot<L> {
         mb.w = V3::select(mask, wb, mb.w);
     }
 
-    /// [`Constraint::solve`] in four lanes; the lanes in which an impulse is held (or was let go).
-    /// `RELAX` is `sweep.pass == Pass::Relax`: the relaxing sweep measures the separation (the
-    /// bodies moved since the last one), the biased sweep reads it (see [`Slot::separation`]).
+    /// The normal row's new accumulated impulse at the normal velocity `un`, as
+    /// [`Constraint`]'s: the separation at this substep (measured by a relaxing sweep), then the
+    /// open / biased / relaxing row.
     #[inline(always)]
-    fn solve<const RELAX: bool>(&mut self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, sweep: &Sweep) -> L {
-        debug_assert_eq!(RELAX, sweep.pass == Pass::Relax);
+    fn normal_row<const RELAX: bool>(&mut self, ma: &Motion4<L>, mb: &Motion4<L>, sweep: &Sweep, un: L) -> L {
         let zero = L::splat(0.0);
-        let u = mb.v.add(mb.w.cross(self.r_b)).sub(ma.v.add(ma.w.cross(self.r_a)));
-        let un = u.dot(self.n);
-        // a speculative contact approaching faster than the impact speed lets go of what it held
-        let let_go = self.speculative & un.neg().gt(L::splat(sweep.impact_speed));
-        let held = self.holds();
-
-        // normal: the separation at this substep, then the open / biased / relaxing row
         if RELAX {
             self.separation = self.measure(ma, mb);
         }
@@ -272,35 +267,64 @@ impl<L: SolveLanes> Slot<L> {
         let l0 = self.lambda[0];
         let mass = self.normal_mass * mass_scale;
         let rest = l0 - mass * bias - impulse_scale * l0;
-        let new = (rest - mass * un).max(zero);
+        (rest - mass * un).max(zero)
+    }
+
+    /// The impulse `dn n` on B and its opposite on A in the lanes of `mask`.
+    #[inline(always)]
+    fn apply_normal(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, dn: L, mask: L) {
+        let p = self.n.scale(dn);
+        let va = ma.v.sub(p.scale(ma.inv_mass));
+        let wa = ma.w.sub(self.ang_a[0].scale(dn));
+        let vb = mb.v.add(p.scale(mb.inv_mass));
+        let wb = mb.w.add(self.ang_b[0].scale(dn));
+        ma.v = V3::select(mask, va, ma.v);
+        ma.w = V3::select(mask, wa, ma.w);
+        mb.v = V3::select(mask, vb, mb.v);
+        mb.w = V3::select(mask, wb, mb.w);
+    }
+
+    /// [`Constraint::solve`] in four lanes, or with `NORMAL_ONLY` [`Constraint::solve_normal`];
+    /// the lanes in which an impulse is held (or was let go). `RELAX` is `sweep.pass ==
+    /// Pass::Relax`: the relaxing sweep measures the separation (the bodies moved since the last
+    /// one), the biased sweep reads it (see [`Slot::separation`]).
+    #[inline(always)]
+    fn solve<const RELAX: bool, const NORMAL_ONLY: bool>(
+        &mut self,
+        ma: &mut Motion4<L>,
+        mb: &mut Motion4<L>,
+        sweep: &Sweep,
+    ) -> L {
+        debug_assert_eq!(RELAX, sweep.pass == Pass::Relax);
+        let zero = L::splat(0.0);
+        let u = mb.v.add(mb.w.cross(self.r_b)).sub(ma.v.add(ma.w.cross(self.r_a)));
+        let un = u.dot(self.n);
+        // a speculative contact approaching faster than the impact speed lets go of what it held
+        let let_go = self.speculative & un.neg().gt(L::splat(sweep.impact_speed));
+        let held = self.holds();
+        let l0 = self.lambda[0];
+        let new = self.normal_row::<RELAX>(ma, mb, sweep, un);
         let dn = new - l0;
+        if NORMAL_ONLY {
+            // (λ_t1 = λ_t2 = 0 throughout)
+            if !let_go.any() {
+                self.lambda[0] = new;
+                self.apply_normal(ma, mb, dn, self.valid);
+                return self.valid & new.ne(zero);
+            }
+            let dn = let_go.select(l0.neg(), dn);
+            self.lambda[0] = let_go.select(zero, new);
+            let apply = self.valid & let_go.select(held, self.valid);
+            self.apply_normal(ma, mb, dn, apply);
+            return self.valid & let_go.select(held, self.lambda[0].ne(zero));
+        }
 
         // friction: sticking inside the disc, else the disc's point nearest λ* in the metric of K_tt
         let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
         let (m, f) = (self.tangent_mass, self.tangent_per_normal);
-        let mut l1 = self.lambda[1] - (m[0] * ux + m[1] * uy) - dn * f[0];
-        let mut l2 = self.lambda[2] - (m[2] * ux + m[3] * uy) - dn * f[1];
-        let limit = self.mu * new;
-        let sliding = (l1 * l1 + l2 * l2).gt(limit * limit);
-        if sliding.any() {
-            let project = sliding & limit.gt(zero);
-            let scale = if project.any() {
-                let (p1, p2) = project_on_disc(self.tangent_k, l1, l2, limit, project);
-                l1 = project.select(p1, l1);
-                l2 = project.select(p2, l2);
-                let len = (l1 * l1 + l2 * l2).sqrt();
-                (len.gt(zero) & len.is_finite()).select(limit / len, zero)
-            } else {
-                // no sliding lane has a positive limit (an open point, or μ = 0): there `limit` is
-                // ±0 (`μ ≥ 0`, `λ_n ≥ 0`), so `limit / len` is `limit` itself for a positive finite
-                // `len = √(l1² + l2²)`, and the square root and the division (on the sweep's
-                // critical path, in most of a pile's solves) are not needed: the same bits
-                let len_squared = l1 * l1 + l2 * l2;
-                (len_squared.gt(zero) & len_squared.is_finite()).select(limit, zero)
-            };
-            l1 = sliding.select(l1 * scale, l1);
-            l2 = sliding.select(l2 * scale, l2);
-        }
+        let l1 = self.lambda[1] - (m[0] * ux + m[1] * uy) - dn * f[0];
+        let l2 = self.lambda[2] - (m[2] * ux + m[3] * uy) - dn * f[1];
+        let (l1, l2) = friction_on_disc(self.tangent_k, l1, l2, self.mu * new);
         let (d1, d2) = (l1 - self.lambda[1], l2 - self.lambda[2]);
 
         if !let_go.any() {
@@ -321,11 +345,130 @@ impl<L: SolveLanes> Slot<L> {
         self.valid & let_go.select(held, self.holds())
     }
 
-    /// The warm start of the lanes that hold an impulse; those lanes.
+    /// The warm start of the lanes that hold an impulse; those lanes. With `NORMAL_ONLY`, the
+    /// normal impulse alone (as [`warm_start_patch_pair`]).
+    #[inline(always)]
+    fn warm_start<const NORMAL_ONLY: bool>(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>) -> L {
+        if NORMAL_ONLY {
+            let held = self.valid & self.lambda[0].ne(L::splat(0.0));
+            self.apply_normal(ma, mb, self.lambda[0], held);
+            return held;
+        }
+        let held = self.valid & self.holds();
+        self.apply(ma, mb, self.lambda[0], self.lambda[1], self.lambda[2], held);
+        held
+    }
+}
+
+/// [`solver::friction_on_disc`](super::solver::friction_on_disc) in four lanes: `(l1, l2)` where it
+/// lies in the disc `|λ| ≤ limit` (sticking), else the disc's point nearest it in the metric of
+/// `K_tt` ([`project_on_disc`]) put on the circle.
+#[inline(always)]
+fn friction_on_disc<L: SolveLanes>(tangent_k: [L; 3], mut l1: L, mut l2: L, limit: L) -> (L, L) {
+    let zero = L::splat(0.0);
+    let sliding = (l1 * l1 + l2 * l2).gt(limit * limit);
+    if sliding.any() {
+        let project = sliding & limit.gt(zero);
+        let scale = if project.any() {
+            let (p1, p2) = project_on_disc(tangent_k, l1, l2, limit, project);
+            l1 = project.select(p1, l1);
+            l2 = project.select(p2, l2);
+            let len = (l1 * l1 + l2 * l2).sqrt();
+            (len.gt(zero) & len.is_finite()).select(limit / len, zero)
+        } else {
+            // no sliding lane has a positive limit (an open point, or μ = 0): there `limit` is
+            // ±0 (`μ ≥ 0`, `λ_n ≥ 0`), so `limit / len` is `limit` itself for a positive finite
+            // `len = √(l1² + l2²)`, and the square root and the division (on the sweep's
+            // critical path, in most of a pile's solves) are not needed: the same bits
+            let len_squared = l1 * l1 + l2 * l2;
+            (len_squared.gt(zero) & len_squared.is_finite()).select(limit, zero)
+        };
+        l1 = sliding.select(l1 * scale, l1);
+        l2 = sliding.select(l2 * scale, l2);
+    }
+    (l1, l2)
+}
+
+/// The [`Patch`] of each of four manifolds, in lanes (one per batch, with
+/// [`FrictionModel::Manifold`]). `repr(C)` over its lanes, as [`Slot`].
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C)]
+struct PatchSlot<L> {
+    r_a: V3<L>,
+    r_b: V3<L>,
+    n: V3<L>,
+    t1: V3<L>,
+    t2: V3<L>,
+    tangent_mass: [L; 4],
+    tangent_k: [L; 3],
+    ang_a: [V3<L>; 3],
+    ang_b: [V3<L>; 3],
+    twist_mass: L,
+    radius: L,
+    mu: L,
+    /// All bits set in the lanes that hold a manifold.
+    valid: L,
+    lambda: [L; 3],
+    lambda_sum: [L; 3],
+}
+
+impl<L: SolveLanes> PatchSlot<L> {
+    #[inline(always)]
+    fn holds(&self) -> L {
+        self.lambda[0].ne(L::splat(0.0)) | self.lambda[1].ne(L::splat(0.0)) | self.lambda[2].ne(L::splat(0.0))
+    }
+
+    /// [`Patch`]'s friction impulse in the lanes of `mask`.
+    #[inline(always)]
+    fn apply_tangent(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, d1: L, d2: L, mask: L) {
+        let p = self.t1.scale(d1).add(self.t2.scale(d2));
+        let va = ma.v.sub(p.scale(ma.inv_mass));
+        let wa = ma.w.sub(self.ang_a[0].scale(d1).add(self.ang_a[1].scale(d2)));
+        let vb = mb.v.add(p.scale(mb.inv_mass));
+        let wb = mb.w.add(self.ang_b[0].scale(d1).add(self.ang_b[1].scale(d2)));
+        ma.v = V3::select(mask, va, ma.v);
+        ma.w = V3::select(mask, wa, ma.w);
+        mb.v = V3::select(mask, vb, mb.v);
+        mb.w = V3::select(mask, wb, mb.w);
+    }
+
+    /// [`Patch`]'s twist impulse in the lanes of `mask`.
+    #[inline(always)]
+    fn apply_twist(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, dt: L, mask: L) {
+        ma.w = V3::select(mask, ma.w.sub(self.ang_a[2].scale(dt)), ma.w);
+        mb.w = V3::select(mask, mb.w.add(self.ang_b[2].scale(dt)), mb.w);
+    }
+
+    /// [`Patch::solve`] in four lanes with the manifolds' normal impulses `normal_sum`; the lanes
+    /// that hold an impulse.
+    #[inline(always)]
+    fn solve(&mut self, ma: &mut Motion4<L>, mb: &mut Motion4<L>, normal_sum: L) -> L {
+        let u = mb.v.add(mb.w.cross(self.r_b)).sub(ma.v.add(ma.w.cross(self.r_a)));
+        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        let m = self.tangent_mass;
+        let l1 = self.lambda[0] - (m[0] * ux + m[1] * uy);
+        let l2 = self.lambda[1] - (m[2] * ux + m[3] * uy);
+        let limit = self.mu * normal_sum;
+        let (l1, l2) = friction_on_disc(self.tangent_k, l1, l2, limit);
+        let (d1, d2) = (l1 - self.lambda[0], l2 - self.lambda[1]);
+        self.lambda[0] = l1;
+        self.lambda[1] = l2;
+        self.apply_tangent(ma, mb, d1, d2, self.valid);
+        let spin = mb.w.sub(ma.w).dot(self.n);
+        let twist_limit = limit * self.radius;
+        let twist = (self.lambda[2] - self.twist_mass * spin).max(twist_limit.neg()).min(twist_limit);
+        let dt = twist - self.lambda[2];
+        self.lambda[2] = twist;
+        self.apply_twist(ma, mb, dt, self.valid);
+        self.valid & self.holds()
+    }
+
+    /// [`Patch`]'s warm start in the lanes that hold an impulse; those lanes.
     #[inline(always)]
     fn warm_start(&self, ma: &mut Motion4<L>, mb: &mut Motion4<L>) -> L {
         let held = self.valid & self.holds();
-        self.apply(ma, mb, self.lambda[0], self.lambda[1], self.lambda[2], held);
+        self.apply_tangent(ma, mb, self.lambda[0], self.lambda[1], held);
+        self.apply_twist(ma, mb, self.lambda[2], held);
         held
     }
 }
@@ -372,14 +515,23 @@ fn project_on_disc<L: SolveLanes>(k: [L; 3], l1: L, l2: L, limit: L, mask: L) ->
     ((a22 * b1 - k12 * b2) * inv_det, (a11 * b2 - k12 * b1) * inv_det)
 }
 
-/// The warm start of `batches` in lanes `L`.
+/// The warm start of `batches` in lanes `L`; with `PATCH` ([`FrictionModel::Manifold`]) the
+/// points' normal impulses then each batch's patch (`patches` aligned with `batches`).
 #[inline(always)]
-fn warm_start_in<L: SolveLanes>(batches: &[Batch], slots: &[Slot<L>], bodies: &mut [SolverBody]) {
-    for batch in batches {
+fn warm_start_in<L: SolveLanes, const PATCH: bool>(
+    batches: &[Batch],
+    slots: &[Slot<L>],
+    patches: &[PatchSlot<L>],
+    bodies: &mut [SolverBody],
+) {
+    for (j, batch) in batches.iter().enumerate() {
         let (mut ma, mut mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
         let mut any = L::splat(0.0);
         for slot in &slots[batch.slots.0..batch.slots.1] {
-            any = any | slot.warm_start(&mut ma, &mut mb);
+            any = any | slot.warm_start::<PATCH>(&mut ma, &mut mb);
+        }
+        if PATCH {
+            any = any | patches[j].warm_start(&mut ma, &mut mb);
         }
         ma.scatter(bodies, &batch.a, &batch.moving_a, any);
         mb.scatter(bodies, &batch.b, &batch.moving_b, any);
@@ -387,28 +539,41 @@ fn warm_start_in<L: SolveLanes>(batches: &[Batch], slots: &[Slot<L>], bodies: &m
 }
 
 /// One sweep over `batches` in lanes `L`; `RELAX` the pass (a biased sweep gathers only the bodies'
-/// velocities: the unused loads of their motion are dropped when compiling).
+/// velocities: the unused loads of their motion are dropped when compiling); with `PATCH`
+/// ([`FrictionModel::Manifold`]) the points' normal rows, summed in the order solved, then each
+/// batch's patch (`patches` aligned with `batches`), as [`solve_patch_pair`].
 #[inline(always)]
-fn sweep_in<L: SolveLanes, const RELAX: bool>(
+fn sweep_in<L: SolveLanes, const RELAX: bool, const PATCH: bool>(
     batches: &[Batch],
     slots: &mut [Slot<L>],
+    patches: &mut [PatchSlot<L>],
     bodies: &mut [SolverBody],
     sweep: &Sweep,
 ) {
-    for batch in batches {
+    for (j, batch) in batches.iter().enumerate() {
         let (mut ma, mut mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
         let mut any = L::splat(0.0);
+        let mut normal_sum = L::splat(0.0);
         // two plain loops, not `solver::in_sweep_order`: a closure does not inherit the caller's
         // `target_feature(avx2)`, and the lanes' arithmetic compiled without it costs 20× here
         let points = &mut slots[batch.slots.0..batch.slots.1];
         if sweep.reverse {
             for slot in points.iter_mut().rev() {
-                any = any | slot.solve::<RELAX>(&mut ma, &mut mb, sweep);
+                any = any | slot.solve::<RELAX, PATCH>(&mut ma, &mut mb, sweep);
+                if PATCH {
+                    normal_sum = normal_sum + slot.lambda[0];
+                }
             }
         } else {
             for slot in points {
-                any = any | slot.solve::<RELAX>(&mut ma, &mut mb, sweep);
+                any = any | slot.solve::<RELAX, PATCH>(&mut ma, &mut mb, sweep);
+                if PATCH {
+                    normal_sum = normal_sum + slot.lambda[0];
+                }
             }
+        }
+        if PATCH {
+            any = any | patches[j].solve(&mut ma, &mut mb, normal_sum);
         }
         ma.scatter(bodies, &batch.a, &batch.moving_a, any);
         mb.scatter(bodies, &batch.b, &batch.moving_b, any);
@@ -462,13 +627,80 @@ fn inv_inertia4<L: SolveLanes>(bodies: &[SolverBody], side: &[usize; LANES]) -> 
     ]
 }
 
+/// The tangents of the unit normals `n`, as `impact::tangent_basis` (glam's
+/// `any_orthonormal_vector`); `sign` the signs of `n.z` (`f64::signum`).
+#[inline(always)]
+fn tangents<L: SolveLanes>(n: V3<L>, sign: L) -> (V3<L>, V3<L>) {
+    let a = L::splat(-1.0) / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t1 = V3 { x: b, y: sign + n.y * n.y * a, z: n.y.neg() };
+    (t1, n.cross(t1))
+}
+
+/// The patches of `batches` ([`FrictionModel::Manifold`]) computed in lanes `L`: [`Patch::new`]
+/// for four manifolds at once, operation for operation (the centre, normal and twist arm of each
+/// by the scalar [`patch_frame`]), zeros in the lanes without a manifold.
+#[inline(always)]
+fn load_patches_in<L: SolveLanes>(batches: &[Batch], patches: &mut [PatchSlot<L>], input: &PointInput) {
+    let zero = L::splat(0.0);
+    let all = f64::from_bits(u64::MAX);
+    let bodies = input.bodies;
+    for (batch, patch) in batches.iter().zip(patches) {
+        let (inertia_a, inertia_b) = (inv_inertia4::<L>(bodies, &batch.a), inv_inertia4::<L>(bodies, &batch.b));
+        let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
+        let position = |i: usize| if i == NONE { DVec3::ZERO } else { input.positions[i] };
+        let inv_mass = lanes_of::<L>(|k| body(batch.a[k]).inv_mass) + lanes_of::<L>(|k| body(batch.b[k]).inv_mass);
+        let center_a = V3::<L>::gather(|k| position(batch.a[k]));
+        let center_b = V3::<L>::gather(|k| position(batch.b[k]));
+        let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
+        let frame = [0, 1, 2, 3].map(|k| {
+            manifold(k).map_or((DVec3::ZERO, DVec3::Z, 0.0), |m| patch_frame(&input.points[m.points.0..m.points.1]))
+        });
+        let warm = [0, 1, 2, 3].map(|k| manifold(k).map_or([DVec3::ZERO; 2], |m| m.friction_warm));
+        let valid = lanes_of::<L>(|k| if manifold(k).is_some() { all } else { 0.0 });
+        let c = V3::<L>::gather(|k| frame[k].0);
+        let n = V3::<L>::gather(|k| frame[k].1);
+        let (r_a, r_b) = (c.sub(center_a), c.sub(center_b));
+        let (t1, t2) = tangents(n, lanes_of::<L>(|k| frame[k].1.z.signum()));
+        let ang_a = [mat_vec(&inertia_a, r_a.cross(t1)), mat_vec(&inertia_a, r_a.cross(t2)), mat_vec(&inertia_a, n)];
+        let ang_b = [mat_vec(&inertia_b, r_b.cross(t1)), mat_vec(&inertia_b, r_b.cross(t2)), mat_vec(&inertia_b, n)];
+        let k_t1 = k_times(t1, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b);
+        let k_t2 = k_times(t2, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b);
+        let k11 = t1.dot(k_t1);
+        let k12 = t1.dot(k_t2);
+        let k22 = t2.dot(k_t2);
+        let det = k11 * k22 - k12 * k12;
+        let invertible = valid & det.gt(zero);
+        let cross_mass = keep(invertible, k12.neg() / det);
+        let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
+        patch.r_a = keep3(valid, r_a);
+        patch.r_b = keep3(valid, r_b);
+        patch.n = keep3(valid, n);
+        patch.t1 = keep3(valid, t1);
+        patch.t2 = keep3(valid, t2);
+        patch.tangent_mass = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+        patch.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
+        patch.ang_a = ang_a.map(|v| keep3(valid, v));
+        patch.ang_b = ang_b.map(|v| keep3(valid, v));
+        patch.twist_mass = keep(valid & kww.gt(zero), L::splat(1.0) / kww);
+        patch.radius = lanes_of::<L>(|k| frame[k].2);
+        patch.mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
+        patch.valid = valid;
+        let force = V3::<L>::gather(|k| warm[k][0]);
+        let twist = V3::<L>::gather(|k| warm[k][1]);
+        patch.lambda = [keep(valid, force.dot(t1)), keep(valid, force.dot(t2)), keep(valid, twist.dot(n))];
+        patch.lambda_sum = [zero; 3];
+    }
+}
+
 /// The slots of `batches` computed from their points in lanes `L`: [`Constraint::new`] for four
 /// points at once, operation for operation (so the same bits as [`Slot::load`] of the scalar
 /// constraints), zeros in the lanes without a point, the separations measured at the bodies'
 /// current motion. (No closure here makes lanes: a closure does not inherit the caller's
-/// `target_feature`.)
+/// `target_feature`.) With `NORMAL_ONLY` ([`FrictionModel::Manifold`]) the normal rows alone, the
+/// fields of friction zero.
 #[inline(always)]
-fn load_points_in<L: SolveLanes>(
+fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
     batches: &[Batch],
     slot_index: &[[usize; LANES]],
     slots: &mut [Slot<L>],
@@ -499,12 +731,35 @@ fn load_points_in<L: SolveLanes>(
             let point = V3::<L>::gather(|k| p(k).point);
             let gap = lanes_of::<L>(|k| p(k).gap);
             let (r_a, r_b) = (point.sub(center_a), point.sub(center_b));
-            // the tangents, as `impact::tangent_basis` (glam's `any_orthonormal_vector`)
-            let sign = lanes_of::<L>(|k| p(k).n.z.signum());
-            let a = L::splat(-1.0) / (sign + n.z);
-            let b = n.x * n.y * a;
-            let t1 = V3 { x: b, y: sign + n.y * n.y * a, z: n.y.neg() };
-            let t2 = n.cross(t1);
+            slot.r_a = keep3(valid, r_a);
+            slot.r_b = keep3(valid, r_b);
+            slot.n = keep3(valid, n);
+            slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
+            slot.mu = keep(valid, mu);
+            slot.bias_rate = keep(valid, bias_rate);
+            slot.mass_scale = keep(valid, mass_scale);
+            slot.impulse_scale = keep(valid, impulse_scale);
+            slot.speculative = keep(valid, gap.gt(zero));
+            slot.valid = valid;
+            slot.lambda_sum = [zero; 3];
+            slot.separation = slot.measure(&ma, &mb);
+            if NORMAL_ONLY {
+                // the normal row alone (its patch takes the friction): no tangents, zeros in the
+                // friction's fields
+                let (ang_a, ang_b) = (mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_b, r_b.cross(n)));
+                let knn = n.dot(k_times(n, inv_mass, [ang_a, ang_b], r_a, r_b));
+                slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
+                let none = V3 { x: zero, y: zero, z: zero };
+                slot.ang_a = [keep3(valid, ang_a), none, none];
+                slot.ang_b = [keep3(valid, ang_b), none, none];
+                (slot.t1, slot.t2) = (none, none);
+                slot.tangent_mass = [zero; 4];
+                slot.tangent_per_normal = [zero; 2];
+                slot.tangent_k = [zero; 3];
+                slot.lambda = [keep(valid, lanes_of::<L>(|k| p(k).lambda[0])), zero, zero];
+                continue;
+            }
+            let (t1, t2) = tangents(n, lanes_of::<L>(|k| p(k).n.z.signum()));
             let ang_a = [
                 mat_vec(&inertia_a, r_a.cross(n)),
                 mat_vec(&inertia_a, r_a.cross(t1)),
@@ -529,12 +784,8 @@ fn load_points_in<L: SolveLanes>(
             let det = k11 * k22 - k12 * k12;
             let invertible = valid & det.gt(zero);
             let cross_mass = keep(invertible, k12.neg() / det);
-            slot.r_a = keep3(valid, r_a);
-            slot.r_b = keep3(valid, r_b);
-            slot.n = keep3(valid, n);
             slot.t1 = keep3(valid, t1);
             slot.t2 = keep3(valid, t2);
-            slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
             slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
             let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
             let m = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
@@ -543,19 +794,11 @@ fn load_points_in<L: SolveLanes>(
             slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
             slot.ang_a = ang_a.map(|v| keep3(valid, v));
             slot.ang_b = ang_b.map(|v| keep3(valid, v));
-            slot.mu = keep(valid, mu);
-            slot.bias_rate = keep(valid, bias_rate);
-            slot.mass_scale = keep(valid, mass_scale);
-            slot.impulse_scale = keep(valid, impulse_scale);
-            slot.speculative = keep(valid, gap.gt(zero));
-            slot.valid = valid;
             slot.lambda = [
                 keep(valid, lanes_of::<L>(|k| p(k).lambda[0])),
                 keep(valid, lanes_of::<L>(|k| p(k).lambda[1])),
                 keep(valid, lanes_of::<L>(|k| p(k).lambda[2])),
             ];
-            slot.lambda_sum = [zero; 3];
-            slot.separation = slot.measure(&ma, &mb);
         }
     }
 }
@@ -564,13 +807,17 @@ fn load_points_in<L: SolveLanes>(
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
-    use super::{load_points_in, sweep_in, warm_start_in, Batch, PointInput, Slot, SolverBody, Sweep, LANES};
+    use super::{
+        load_patches_in, load_points_in, sweep_in, warm_start_in, Batch, PatchSlot, PointInput, Slot, SolverBody,
+        Sweep, LANES,
+    };
     use crate::integrate::lanes::Avx;
     use wide::f64x4;
 
     // the same layout: four `f64` in lane order, 32 bytes aligned to 32
     const _: () = assert!(size_of::<f64x4>() == size_of::<Avx>() && align_of::<f64x4>() == align_of::<Avx>());
     const _: () = assert!(size_of::<Slot<f64x4>>() == size_of::<Slot<Avx>>());
+    const _: () = assert!(size_of::<PatchSlot<f64x4>>() == size_of::<PatchSlot<Avx>>());
 
     /// The slots as `Slot<Avx>`: `Slot` is `repr(C)` over its lanes, and `f64x4` and `Avx` are both
     /// four `f64` in lane order (32 bytes, aligned to 32; asserted above), any bits valid in both.
@@ -579,29 +826,46 @@ mod avx {
         unsafe { std::slice::from_raw_parts_mut(slots.as_mut_ptr().cast::<Slot<Avx>>(), slots.len()) }
     }
 
+    /// The patches as `PatchSlot<Avx>`, as [`slots`].
+    pub(super) fn patches(patches: &mut [PatchSlot<f64x4>]) -> &mut [PatchSlot<Avx>] {
+        // SAFETY: as `slots`: `PatchSlot` is `repr(C)` over its lanes (size asserted above)
+        unsafe { std::slice::from_raw_parts_mut(patches.as_mut_ptr().cast::<PatchSlot<Avx>>(), patches.len()) }
+    }
+
     #[target_feature(enable = "avx2")]
-    pub(super) fn load_points(
+    pub(super) fn load_patches(batches: &[Batch], patches: &mut [PatchSlot<Avx>], input: &PointInput) {
+        load_patches_in::<Avx>(batches, patches, input);
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn load_points<const NORMAL_ONLY: bool>(
         batches: &[Batch],
         slot_index: &[[usize; LANES]],
         slots: &mut [Slot<Avx>],
         input: &PointInput,
     ) {
-        load_points_in::<Avx>(batches, slot_index, slots, input);
+        load_points_in::<Avx, NORMAL_ONLY>(batches, slot_index, slots, input);
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn warm_start(batches: &[Batch], slots: &[Slot<Avx>], bodies: &mut [SolverBody]) {
-        warm_start_in::<Avx>(batches, slots, bodies);
+    pub(super) fn warm_start<const PATCH: bool>(
+        batches: &[Batch],
+        slots: &[Slot<Avx>],
+        patches: &[PatchSlot<Avx>],
+        bodies: &mut [SolverBody],
+    ) {
+        warm_start_in::<Avx, PATCH>(batches, slots, patches, bodies);
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn sweep<const RELAX: bool>(
+    pub(super) fn sweep<const RELAX: bool, const PATCH: bool>(
         batches: &[Batch],
         slots: &mut [Slot<Avx>],
+        patches: &mut [PatchSlot<Avx>],
         bodies: &mut [SolverBody],
         sweep: &Sweep,
     ) {
-        sweep_in::<Avx, RELAX>(batches, slots, bodies, sweep);
+        sweep_in::<Avx, RELAX, PATCH>(batches, slots, patches, bodies, sweep);
     }
 }
 
@@ -663,6 +927,17 @@ pub struct LaneSolver {
     /// The first point of each of `overflow`'s manifolds among the points (groups' ranges) of the
     /// build.
     overflow_points: Vec<usize>,
+    /// The manifold of each of `overflow`'s (an index of the build's manifolds or groups).
+    overflow_manifold: Vec<usize>,
+    /// Whether friction is per manifold ([`FrictionModel::Manifold`], [`build_points`](Self::build_points)
+    /// only): the slots then hold normal rows, and each batch has a patch.
+    patch: bool,
+    /// The patch of each batch (with `patch`).
+    patches: Vec<PatchSlot<f64x4>>,
+    /// The patch of each of `overflow`'s manifolds, and its impulses summed over the substeps (with
+    /// `patch`).
+    overflow_patches: Vec<Patch>,
+    overflow_patch_sums: Vec<[f64; 3]>,
     /// Whether the sweeps run in AVX registers (the CPU has AVX2, found by each build).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx: bool,
@@ -687,9 +962,15 @@ impl LaneSolver {
         self.layout(groups.len(), |g| groups[g], pair, bodies.len(), &moving);
         self.overflow.clear();
         self.overflow_points.clear();
+        self.overflow_manifold.clear();
+        self.patch = false;
+        self.patches.clear();
+        self.overflow_patches.clear();
+        self.overflow_patch_sums.clear();
         for &g in self.singles.iter().chain(&self.order[self.colour_start[COLOURS]..]) {
             self.overflow.push(groups[g]);
             self.overflow_points.push(groups[g].0);
+            self.overflow_manifold.push(g);
         }
         self.slots.clear();
         for batch in &self.batches {
@@ -706,8 +987,10 @@ impl LaneSolver {
     /// operation for operation: the same slots bit for bit, no `Constraint` made); `positions` the
     /// bodies' centres of mass (m). The manifolds of the colours of one manifold and of the
     /// overflow are made into `overflow` as [`Constraint`]s, which are then the constraints to give
-    /// to [`solve`](Self::solve) and the other passes.
-    #[allow(unsafe_code)]
+    /// to [`solve`](Self::solve) and the other passes. With [`FrictionModel::Manifold`] each
+    /// manifold also has a [`Patch`] (in lanes per batch, or kept here for the overflow's), and its
+    /// points' tangential impulses must be zero.
+    #[allow(unsafe_code, clippy::too_many_arguments)]
     pub fn build_points(
         &mut self,
         manifolds: &[Manifold],
@@ -715,6 +998,7 @@ impl LaneSolver {
         bodies: &[SolverBody],
         positions: &[DVec3],
         moving: impl Fn(usize) -> bool,
+        friction: FrictionModel,
         overflow: &mut Vec<Constraint>,
     ) {
         self.layout(
@@ -727,16 +1011,26 @@ impl LaneSolver {
         overflow.clear();
         self.overflow.clear();
         self.overflow_points.clear();
+        self.overflow_manifold.clear();
+        self.patch = friction == FrictionModel::Manifold;
+        self.overflow_patches.clear();
+        self.overflow_patch_sums.clear();
         for &g in self.singles.iter().chain(&self.order[self.colour_start[COLOURS]..]) {
             let m = &manifolds[g];
             let start = overflow.len();
-            for p in &points[m.points.0..m.points.1] {
+            let own = &points[m.points.0..m.points.1];
+            for p in own {
                 let mut k = Constraint::new(bodies, positions, m.a, m.b, p.point, p.n, p.gap, m.mu, m.softness);
                 k.lambda = p.lambda;
                 overflow.push(k);
             }
             self.overflow.push((start, overflow.len()));
             self.overflow_points.push(m.points.0);
+            self.overflow_manifold.push(g);
+            if self.patch {
+                self.overflow_patches.push(Patch::new(bodies, positions, m.a, m.b, own, m.mu, m.friction_warm));
+                self.overflow_patch_sums.push([0.0; 3]);
+            }
         }
         // every field of every slot is written below: the slots of the last step are overwritten,
         // not zeroed first
@@ -745,12 +1039,30 @@ impl LaneSolver {
             self.slots.resize(count, Slot::default());
         }
         let input = PointInput { manifolds, points, bodies, positions };
+        let patches = if self.patch { self.batches.len() } else { 0 };
+        if self.patches.len() != patches {
+            self.patches.resize(patches, PatchSlot::default());
+        }
         #[cfg(target_arch = "x86_64")]
         if self.avx {
             // SAFETY: `layout` found AVX2 on this CPU
-            return unsafe { avx::load_points(&self.batches, &self.slot_index, avx::slots(&mut self.slots), &input) };
+            unsafe {
+                let slots = avx::slots(&mut self.slots);
+                if self.patch {
+                    avx::load_points::<true>(&self.batches, &self.slot_index, slots, &input);
+                    avx::load_patches(&self.batches, avx::patches(&mut self.patches), &input);
+                } else {
+                    avx::load_points::<false>(&self.batches, &self.slot_index, slots, &input);
+                }
+            }
+            return;
         }
-        load_points_in::<f64x4>(&self.batches, &self.slot_index, &mut self.slots, &input);
+        if self.patch {
+            load_points_in::<f64x4, true>(&self.batches, &self.slot_index, &mut self.slots, &input);
+            load_patches_in::<f64x4>(&self.batches, &mut self.patches, &input);
+        } else {
+            load_points_in::<f64x4, false>(&self.batches, &self.slot_index, &mut self.slots, &input);
+        }
     }
 
     /// The colours, the batches and the slots' points of `count` manifolds, manifold `g` being the
@@ -910,14 +1222,31 @@ impl LaneSolver {
         for k in 0..self.used.len() {
             match self.used[k] {
                 Colour::Batches(first, end) => self.warm_start_batches(first..end, bodies),
-                Colour::Single(j) => {
-                    let (s, e) = self.overflow[j];
-                    warm_start_pair(&constraints[s..e], bodies);
-                }
+                Colour::Single(j) => self.warm_start_one(j, constraints, bodies),
             }
         }
-        for &(s, e) in &self.overflow[self.singles.len()..] {
+        for j in self.singles.len()..self.overflow.len() {
+            self.warm_start_one(j, constraints, bodies);
+        }
+    }
+
+    /// The warm start of `overflow[j]` by the scalar solver.
+    fn warm_start_one(&self, j: usize, constraints: &[Constraint], bodies: &mut [SolverBody]) {
+        let (s, e) = self.overflow[j];
+        if self.patch {
+            warm_start_patch_pair(&constraints[s..e], &self.overflow_patches[j], bodies);
+        } else {
             warm_start_pair(&constraints[s..e], bodies);
+        }
+    }
+
+    /// One sweep over `overflow[j]` by the scalar solver.
+    fn solve_one(&mut self, j: usize, constraints: &mut [Constraint], bodies: &mut [SolverBody], sweep: &Sweep) {
+        let (s, e) = self.overflow[j];
+        if self.patch {
+            solve_patch_pair(&mut constraints[s..e], &mut self.overflow_patches[j], bodies, sweep);
+        } else {
+            solve_pair(&mut constraints[s..e], bodies, sweep);
         }
     }
 
@@ -926,27 +1255,37 @@ impl LaneSolver {
         for k in 0..self.used.len() {
             match self.used[k] {
                 Colour::Batches(first, end) => self.solve_batches(first..end, bodies, sweep),
-                Colour::Single(j) => {
-                    let (s, e) = self.overflow[j];
-                    solve_pair(&mut constraints[s..e], bodies, sweep);
-                }
+                Colour::Single(j) => self.solve_one(j, constraints, bodies, sweep),
             }
         }
-        for &(s, e) in &self.overflow[self.singles.len()..] {
-            solve_pair(&mut constraints[s..e], bodies, sweep);
+        for j in self.singles.len()..self.overflow.len() {
+            self.solve_one(j, constraints, bodies, sweep);
         }
     }
 
     /// The warm start of a range of batches of one colour.
     #[allow(unsafe_code)]
     pub fn warm_start_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody]) {
-        let batches = &self.batches[batches];
+        if self.patch {
+            self.warm_start_batches_as::<true>(batches, bodies);
+        } else {
+            self.warm_start_batches_as::<false>(batches, bodies);
+        }
+    }
+
+    /// [`warm_start_batches`](Self::warm_start_batches) with the friction model known when compiling.
+    #[allow(unsafe_code)]
+    fn warm_start_batches_as<const PATCH: bool>(&mut self, range: Range<usize>, bodies: &mut [SolverBody]) {
+        let batches = &self.batches[range.clone()];
+        let patches = if PATCH { &mut self.patches[range] } else { &mut [] };
         #[cfg(target_arch = "x86_64")]
         if self.avx {
             // SAFETY: `build` found AVX2 on this CPU
-            return unsafe { avx::warm_start(batches, avx::slots(&mut self.slots), bodies) };
+            return unsafe {
+                avx::warm_start::<PATCH>(batches, avx::slots(&mut self.slots), avx::patches(patches), bodies)
+            };
         }
-        warm_start_in::<f64x4>(batches, &self.slots, bodies);
+        warm_start_in::<f64x4, PATCH>(batches, &self.slots, patches, bodies);
     }
 
     /// One sweep over a range of batches of one colour (see [`Constraint::solve`]). A relaxing sweep
@@ -954,22 +1293,33 @@ impl LaneSolver {
     /// between a relaxing sweep and the next biased one, nor between [`build`](Self::build) and
     /// the first biased sweep.
     pub fn solve_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
-        match sweep.pass {
-            Pass::Solve => self.sweep_batches::<false>(batches, bodies, sweep),
-            Pass::Relax => self.sweep_batches::<true>(batches, bodies, sweep),
+        match (sweep.pass, self.patch) {
+            (Pass::Solve, false) => self.sweep_batches::<false, false>(batches, bodies, sweep),
+            (Pass::Relax, false) => self.sweep_batches::<true, false>(batches, bodies, sweep),
+            (Pass::Solve, true) => self.sweep_batches::<false, true>(batches, bodies, sweep),
+            (Pass::Relax, true) => self.sweep_batches::<true, true>(batches, bodies, sweep),
         }
     }
 
-    /// [`solve_batches`](Self::solve_batches) with the pass known when compiling.
+    /// [`solve_batches`](Self::solve_batches) with the pass and the friction model known when
+    /// compiling.
     #[allow(unsafe_code)]
-    fn sweep_batches<const RELAX: bool>(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
-        let batches = &self.batches[batches];
+    fn sweep_batches<const RELAX: bool, const PATCH: bool>(
+        &mut self,
+        range: Range<usize>,
+        bodies: &mut [SolverBody],
+        sweep: &Sweep,
+    ) {
+        let batches = &self.batches[range.clone()];
+        let patches = if PATCH { &mut self.patches[range] } else { &mut [] };
         #[cfg(target_arch = "x86_64")]
         if self.avx {
             // SAFETY: `build` found AVX2 on this CPU
-            return unsafe { avx::sweep::<RELAX>(batches, avx::slots(&mut self.slots), bodies, sweep) };
+            return unsafe {
+                avx::sweep::<RELAX, PATCH>(batches, avx::slots(&mut self.slots), avx::patches(patches), bodies, sweep)
+            };
         }
-        sweep_in::<f64x4, RELAX>(batches, &mut self.slots, bodies, sweep);
+        sweep_in::<f64x4, RELAX, PATCH>(batches, &mut self.slots, patches, bodies, sweep);
     }
 
     /// Adds each constraint's accumulated impulses to its sum over the substeps: in the lanes for
@@ -978,6 +1328,16 @@ impl LaneSolver {
         for slot in &mut self.slots {
             for j in 0..3 {
                 slot.lambda_sum[j] += slot.lambda[j];
+            }
+        }
+        for patch in &mut self.patches {
+            for j in 0..3 {
+                patch.lambda_sum[j] += patch.lambda[j];
+            }
+        }
+        for (sum, patch) in self.overflow_patch_sums.iter_mut().zip(&self.overflow_patches) {
+            for (x, l) in sum.iter_mut().zip(patch.lambda) {
+                *x += l;
             }
         }
         for &(s, e) in &self.overflow {
@@ -1017,6 +1377,26 @@ impl LaneSolver {
             for (j, (k, sum)) in constraints[s..e].iter().zip(&sums[s..e]).enumerate() {
                 f(first + j, k.t1, k.t2, k.lambda, *sum);
             }
+        }
+    }
+
+    /// Each manifold's [`Patch`] after the solve ([`FrictionModel::Manifold`]): `f(manifold, n, t1,
+    /// t2, λ, Σλ)` with the patch's normal and tangents, its accumulated impulses `[λ_t1, λ_t2,
+    /// λ_τ]` and their sum over the substeps (indices of the manifolds given to
+    /// [`build_points`](Self::build_points)). Nothing with per-point friction.
+    pub fn for_each_patch(&self, mut f: impl FnMut(usize, DVec3, DVec3, DVec3, [f64; 3], [f64; 3])) {
+        for (batch, patch) in self.batches.iter().zip(&self.patches) {
+            let l = patch.lambda.map(|x| x.to_array());
+            let sum = patch.lambda_sum.map(|x| x.to_array());
+            for (k, &g) in batch.manifold.iter().enumerate() {
+                if g != NONE {
+                    let (n, t1, t2) = (patch.n.lane(k), patch.t1.lane(k), patch.t2.lane(k));
+                    f(g, n, t1, t2, [l[0][k], l[1][k], l[2][k]], [sum[0][k], sum[1][k], sum[2][k]]);
+                }
+            }
+        }
+        for ((p, sum), &g) in self.overflow_patches.iter().zip(&self.overflow_patch_sums).zip(&self.overflow_manifold) {
+            f(g, p.n, p.t1, p.t2, p.lambda, *sum);
         }
     }
 
@@ -1384,7 +1764,14 @@ mod tests {
                         k.lambda = lambda;
                         constraints.push(k);
                     }
-                    manifolds.push(Manifold { a, b, points: (start, points.len()), mu, softness });
+                    manifolds.push(Manifold {
+                        a,
+                        b,
+                        points: (start, points.len()),
+                        mu,
+                        softness,
+                        friction_warm: [DVec3::ZERO; 2],
+                    });
                     groups.push((start, points.len()));
                 }
                 let mut scalar = LaneSolver { portable, ..LaneSolver::default() };
@@ -1393,7 +1780,8 @@ mod tests {
                 let mut overflow = Vec::new();
                 // twice, the second over the first's slots (they are overwritten, not cleared)
                 for _ in 0..2 {
-                    lanes.build_points(&manifolds, &points, &bodies, &positions, |i| moving[i], &mut overflow);
+                    let point = FrictionModel::Point;
+                    lanes.build_points(&manifolds, &points, &bodies, &positions, |i| moving[i], point, &mut overflow);
                 }
                 assert_eq!(scalar.slot_index, lanes.slot_index);
                 assert_eq!(scalar.slots.len(), lanes.slots.len());
@@ -1432,6 +1820,141 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// With per-manifold friction the lanes give the scalar solver's velocities and impulses bit
+    /// for bit (up to the sign of zeros): random manifolds of 1–6 points (some with points of
+    /// different normals, some warm started), built by [`LaneSolver::build_points`], against
+    /// [`Patch::new`], [`warm_start_patch_pair`] and [`solve_patch_pair`] over the manifolds in the
+    /// colour order, three substeps of warm start, biased sweep, motion and relaxing sweep, with
+    /// either kernel; the patches slide, stick and reach their twist limit many times.
+    #[test]
+    fn manifold_friction_in_lanes_matches_the_scalar_solve() {
+        let (mut sliding, mut sticking, mut twisting, mut singles, mut zeros) = (0, 0, 0, 0, 0);
+        for portable in [true, false] {
+            for seed in 1..=16u64 {
+                let mut rng = Rng(0x2f_6b3a_9c11_d4e7 ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+                let (count, hub) = (20 + (seed as usize % 4) * 8, 1 + seed as usize % 3);
+                let (bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
+                let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
+                let mut pairs: Vec<(usize, usize)> = Vec::new();
+                while pairs.len() < 2 * count {
+                    let (a, b) = ((rng.next() % count as u64) as usize, (rng.next() % count as u64) as usize);
+                    if a < b && moving[b] && !pairs.contains(&(a, b)) {
+                        pairs.push((a, b));
+                    }
+                }
+                pairs.extend((0..count).filter(|&i| i != hub).map(|i| (i.min(hub), i.max(hub))));
+                pairs.sort();
+                pairs.dedup();
+                let (mut manifolds, mut points) = (vec![], vec![]);
+                for (a, b) in pairs {
+                    let start = points.len();
+                    let mu = [0.0, 0.3, 1.0, 0.6][(rng.next() % 4) as usize];
+                    let softness = Softness::new([0.0, 60.0, 120.0][(rng.next() % 3) as usize], 10.0, 1.0 / 360.0);
+                    let n = rng.unit();
+                    let bent = rng.next() % 4 == 0;
+                    for _ in 0..1 + (rng.next() % 6) as usize {
+                        let point = 0.5 * (positions[a] + positions[b]) + rng.vec(0.5);
+                        let n = if bent { (n + rng.vec(0.2)).normalize() } else { n };
+                        let lambda = if rng.next() % 2 == 0 { [rng.range(0.0, 2.0), 0.0, 0.0] } else { [0.0; 3] };
+                        points.push(ContactPoint { point, n, gap: rng.range(-0.02, 0.01), lambda });
+                    }
+                    let friction_warm =
+                        if rng.next() % 2 == 0 { [rng.vec(1.0), rng.vec(0.5)] } else { [DVec3::ZERO; 2] };
+                    manifolds.push(Manifold { a, b, points: (start, points.len()), mu, softness, friction_warm });
+                }
+                let mut lanes = LaneSolver { portable, ..LaneSolver::default() };
+                let mut overflow = Vec::new();
+                let model = FrictionModel::Manifold;
+                lanes.build_points(&manifolds, &points, &bodies, &positions, |i| moving[i], model, &mut overflow);
+                singles += lanes.singles.len();
+                // the scalar reference, manifold by manifold
+                let mut constraints: Vec<Vec<Constraint>> = manifolds
+                    .iter()
+                    .map(|m| {
+                        points[m.points.0..m.points.1]
+                            .iter()
+                            .map(|p| {
+                                let mut k = Constraint::new(
+                                    &bodies, &positions, m.a, m.b, p.point, p.n, p.gap, m.mu, m.softness,
+                                );
+                                k.lambda = p.lambda;
+                                k
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let mut patches: Vec<Patch> = manifolds
+                    .iter()
+                    .map(|m| {
+                        let own = &points[m.points.0..m.points.1];
+                        Patch::new(&bodies, &positions, m.a, m.b, own, m.mu, m.friction_warm)
+                    })
+                    .collect();
+                let order = lanes.order().to_vec();
+                let (mut sb, mut lb) = (bodies.clone(), bodies);
+                let h = 1.0 / 360.0;
+                for substep in 0..3 {
+                    for i in (0..sb.len()).filter(|&i| moving[i]) {
+                        sb[i].integrate_velocity(h);
+                        lb[i].integrate_velocity(h);
+                    }
+                    for &g in &order {
+                        warm_start_patch_pair(&constraints[g], &patches[g], &mut sb);
+                    }
+                    lanes.warm_start(&overflow, &mut lb);
+                    for pass in [Pass::Solve, Pass::Relax] {
+                        let sweep = Sweep {
+                            reverse: (substep + usize::from(pass == Pass::Relax)) % 2 == 1,
+                            pass,
+                            inv_h: 1.0 / h,
+                            slop: [0.0, 0.001][seed as usize % 2],
+                            max_push: 3.0,
+                            impact_speed: 0.5,
+                        };
+                        for &g in &order {
+                            solve_patch_pair(&mut constraints[g], &mut patches[g], &mut sb, &sweep);
+                            let p = &patches[g];
+                            let limit = p.mu * constraints[g].iter().map(|k| k.lambda[0]).sum::<f64>();
+                            if limit > 0.0 {
+                                let t = (p.lambda[0] * p.lambda[0] + p.lambda[1] * p.lambda[1]).sqrt();
+                                *if t > limit * (1.0 - 1e-12) { &mut sliding } else { &mut sticking } += 1;
+                                twisting += usize::from(p.lambda[2].abs() >= limit * p.radius * (1.0 - 1e-12));
+                            }
+                        }
+                        lanes.solve(&mut overflow, &mut lb, &sweep);
+                        let what = format!("portable {portable}, seed {seed}, substep {substep}, {pass:?}");
+                        for (i, (x, y)) in sb.iter().zip(&lb).enumerate() {
+                            let values = |b: &SolverBody| [b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z];
+                            let ok = values(x).iter().zip(values(y)).all(|(&p, q)| same(p, q, &mut zeros));
+                            assert!(ok, "{what}: body {i} {:?} {:?} / {:?} {:?}", x.v, x.w, y.v, y.w);
+                        }
+                        lanes.for_each_patch(|g, n, t1, t2, lambda, _| {
+                            let p = &patches[g];
+                            assert!(n == p.n && t1 == p.t1 && t2 == p.t2, "{what}: patch {g} frame");
+                            let ok = lambda.iter().zip(p.lambda).all(|(&x, y)| same(x, y, &mut zeros));
+                            assert!(ok, "{what}: patch {g} λ {lambda:?} / {:?}", p.lambda);
+                        });
+                        let sums = vec![[0.0; 3]; overflow.len()];
+                        let flat: Vec<&Constraint> = constraints.iter().flatten().collect();
+                        lanes.for_each_point(&overflow, &sums, |i, _, _, lambda, _| {
+                            let ok = lambda.iter().zip(flat[i].lambda).all(|(&x, y)| same(x, y, &mut zeros));
+                            assert!(ok, "{what}: point {i} λ {lambda:?} / {:?}", flat[i].lambda);
+                        });
+                        if pass == Pass::Solve {
+                            for i in (0..sb.len()).filter(|&i| moving[i]) {
+                                sb[i].integrate_position(h);
+                                lb[i].integrate_position(h);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        eprintln!("patches sliding {sliding}, sticking {sticking}, at the twist limit {twisting}, colours of one manifold {singles}, zeros of opposite sign {zeros}");
+        assert!(sliding >= 50 && sticking >= 50 && twisting >= 50);
+        assert!(singles > 0);
     }
 
     /// A slot as its fields' lanes in order (`Slot` is `repr(C)` over `f64x4` fields only).

@@ -42,6 +42,7 @@ pub use impact::{collide, collision_matrix, Impact, RestitutionLaw};
 use crate::body::RigidBody;
 use crate::collision::{Colliders, Contact};
 use crate::math::{quat_exp, DMat3, DQuat, DVec3};
+pub use solver::FrictionModel;
 use solver::{Constraint, ContactPoint, Manifold, SolverBody};
 
 /// Contact settings, the contact keys of `[world]`. Units SI.
@@ -62,6 +63,10 @@ pub struct ContactSettings {
     pub substeps: u32,
     /// Solver passes per substep (each followed by as many relaxation passes). Default `1`.
     pub iterations: u32,
+    /// How the resting contacts between free bodies take friction: at every point (default), or
+    /// one disc and one twist per manifold ([`FrictionModel::Manifold`], cheaper and coarser).
+    /// Robots' contacts keep friction at every point.
+    pub friction_model: FrictionModel,
     /// Overlap tolerated without correction (m). Default `0`: the spring below holds the overlap
     /// of a body resting on another at `m g/(m_n ω²)`, a fraction of a millimetre.
     pub slop: f64,
@@ -115,6 +120,7 @@ impl Default for ContactSettings {
             impact_speed: 0.5,
             substeps: 6,
             iterations: 1,
+            friction_model: FrictionModel::Point,
             slop: 0.0,
             hertz: 60.0,
             damping_ratio: 10.0,
@@ -146,6 +152,19 @@ struct Previous {
     point_world: DVec3,
     lambda: [f64; 3],
 }
+
+/// A manifold's friction patch of the previous step ([`FrictionModel::Manifold`]): its friction
+/// impulse and twist's angular impulse, world frame (N·s, N·m·s).
+#[derive(Debug, Clone, Copy)]
+struct PreviousPatch {
+    a: usize,
+    b: usize,
+    friction_warm: [DVec3; 2],
+}
+
+/// A manifold's patch at the end of the solve: normal, tangents, accumulated impulses and their
+/// sum over the substeps (`LaneSolver::for_each_patch`).
+type PatchResult = (DVec3, DVec3, DVec3, [f64; 3], [f64; 3]);
 
 /// The contact stage's buffers, kept from step to step (no allocation once grown).
 #[derive(Debug, Clone, Default)]
@@ -187,6 +206,12 @@ pub struct ContactStage {
     gravity: DVec3,
     /// The previous step's contacts and their impulses, sorted by pair (warm starting).
     previous: Vec<Previous>,
+    /// The previous step's friction patches, sorted by pair ([`FrictionModel::Manifold`]).
+    previous_patches: Vec<PreviousPatch>,
+    /// Per point of `points`, its normal impulse summed over the substeps, and per manifold its
+    /// patch at the end of the solve ([`FrictionModel::Manifold`]).
+    normal_sums: Vec<f64>,
+    patch_results: Vec<Option<PatchResult>>,
     /// Each contact's accumulated impulses at the end of the step (N·s); aligned with `contacts`.
     lambdas: Vec<[f64; 3]>,
     /// Per contact: both bodies fixed or asleep (kept from when they fell asleep, not solved).
@@ -398,6 +423,7 @@ impl ContactStage {
         }
         if self.contacts.is_empty() && self.links.is_empty() {
             self.previous.clear();
+            self.previous_patches.clear();
             self.links.clear();
             return;
         }
@@ -576,6 +602,8 @@ impl ContactStage {
         self.points.clear();
         self.constrained.clear();
         let mut warm = WarmStarts::new(&self.previous);
+        let per_manifold = settings.friction_model == FrictionModel::Manifold;
+        let mut patches = self.previous_patches.iter().peekable();
         for (ci, c) in self.contacts.iter().enumerate() {
             if self.frozen[ci] {
                 continue;
@@ -584,9 +612,19 @@ impl ContactStage {
             if self.manifolds.last().is_none_or(|m| (m.a, m.b) != (c.a, c.b)) {
                 let (mu, _) = combine(&bodies[c.a], &bodies[c.b], settings);
                 let softness = if bodies[c.a].fixed || bodies[c.b].fixed { soft_fixed } else { soft };
-                self.manifolds.push(Manifold { a: c.a, b: c.b, points: (row, row), mu, softness });
+                // the pair's patch of the last step (both lists in pair order)
+                while patches.next_if(|p| (p.a, p.b) < (c.a, c.b)).is_some() {}
+                let friction_warm = match patches.peek() {
+                    Some(p) if per_manifold && (p.a, p.b) == (c.a, c.b) => p.friction_warm,
+                    _ => [DVec3::ZERO; 2],
+                };
+                self.manifolds.push(Manifold { a: c.a, b: c.b, points: (row, row), mu, softness, friction_warm });
             }
-            let lambda = warm.find(c).unwrap_or([0.0; 3]);
+            let mut lambda = warm.find(c).unwrap_or([0.0; 3]);
+            if per_manifold {
+                // the patch takes the friction
+                lambda = [lambda[0], 0.0, 0.0];
+            }
             self.points.push(ContactPoint { point: c.point_world, n: c.normal_world, gap: c.gap, lambda });
             self.manifolds.last_mut().expect("pushed above").points.1 = row + 1;
             self.constrained.push(ci);
@@ -610,6 +648,7 @@ impl ContactStage {
             &self.bodies,
             &self.positions,
             |i| !bodies[i].fixed,
+            settings.friction_model,
             &mut self.constraints,
         );
         let lanes = &mut self.lanes;
@@ -673,11 +712,41 @@ impl ContactStage {
         }
         let (impulses, lambdas, constrained, points) =
             (&mut self.impulses, &mut self.lambdas, &self.constrained, &self.points);
+        let normal_sums = &mut self.normal_sums;
+        normal_sums.clear();
+        normal_sums.resize(if per_manifold { points.len() } else { 0 }, 0.0);
         lanes.for_each_point(constraints, &self.lambda_sums, |row, t1, t2, lambda, sum| {
             let ci = constrained[row];
             impulses[ci] += sum[0] * points[row].n + sum[1] * t1 + sum[2] * t2;
             lambdas[ci] = lambda;
+            if per_manifold {
+                normal_sums[row] = sum[0];
+            }
         });
+        self.previous_patches.clear();
+        if per_manifold {
+            self.patch_results.clear();
+            self.patch_results.resize(self.manifolds.len(), None);
+            let results = &mut self.patch_results;
+            lanes.for_each_patch(|g, n, t1, t2, lambda, sum| results[g] = Some((n, t1, t2, lambda, sum)));
+            for (m, result) in self.manifolds.iter().zip(&self.patch_results) {
+                let Some((n, t1, t2, lambda, sum)) = *result else { continue };
+                self.previous_patches.push(PreviousPatch {
+                    a: m.a,
+                    b: m.b,
+                    friction_warm: [lambda[0] * t1 + lambda[1] * t2, lambda[2] * n],
+                });
+                let rows = m.points.0..m.points.1;
+                share_patch(
+                    &self.points[rows.clone()],
+                    &self.normal_sums[rows.clone()],
+                    n,
+                    sum[0] * t1 + sum[1] * t2,
+                    sum[2],
+                    |j, impulse| self.impulses[self.constrained[rows.start + j]] += impulse,
+                );
+            }
+        }
         if with_links {
             links.store_elastic_energy(&self.bodies, slop);
             links.finish(robots, dt);
@@ -714,6 +783,34 @@ impl ContactStage {
             b.set_omega_world(omega);
             self.held[i] = Some((b.state.position + sb.dx, (sb.dq * b.state.orientation).normalize()));
         }
+    }
+}
+
+/// A manifold's patch impulse over the step ([`FrictionModel::Manifold`]) shared among its points as
+/// forces the contacts report: the friction impulse `friction` (N·s) in proportion to each point's
+/// normal impulse `normal_sums` (equally when they are all zero), and the twist `twist` (N·m·s about
+/// `n`) as the impulses `τ n × d_i / Σ|d_j|²` with `d_i` the point's offset from the centre across
+/// the normal: they add up to no force and to the twist's moment `τ n` about the centre (exactly when
+/// the points lie in the plane across `n`). `f(j, impulse)` for the `j`-th point.
+fn share_patch(
+    points: &[ContactPoint],
+    normal_sums: &[f64],
+    n: DVec3,
+    friction: DVec3,
+    twist: f64,
+    mut f: impl FnMut(usize, DVec3),
+) {
+    let (centre, _) = solver::patch_centre(points);
+    let across = |p: &ContactPoint| {
+        let d = p.point - centre;
+        d - d.dot(n) * n
+    };
+    let arm_squared: f64 = points.iter().map(|p| across(p).length_squared()).sum();
+    let total: f64 = normal_sums.iter().sum();
+    for (j, (p, &normal)) in points.iter().zip(normal_sums).enumerate() {
+        let share = if total > 0.0 { normal / total } else { 1.0 / points.len() as f64 };
+        let turn = if arm_squared > 0.0 { (twist / arm_squared) * n.cross(across(p)) } else { DVec3::ZERO };
+        f(j, share * friction + turn);
     }
 }
 

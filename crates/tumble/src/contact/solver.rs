@@ -23,6 +23,15 @@
 //!   (the 2×2 block, so friction is isotropic), then `λ_t` is put back in the disc `|λ_t| ≤ μ λ_n`
 //!   at the point nearest in the metric of `K_tt` (friction opposes the slip).
 //!
+//! With [`FrictionModel::Manifold`] (an option, never the default) the points of a manifold keep
+//! only their normal rows, and friction is one [`Patch`] per manifold: a 2-D friction row at the
+//! centre `c = (1/m) Σ p_i` of its points, `Δλ_t = −K_tt⁻¹ u_t(c)` put back in the disc
+//! `|λ_t| ≤ μ Σ λ_n,i` as above, and a twist row about the normal, `Δλ_τ = −(nᵀ(I_a⁻¹ + I_b⁻¹) n)⁻¹
+//! (ω_b − ω_a)·n` clamped to `|λ_τ| ≤ μ ρ Σ λ_n,i` with `ρ` the mean distance of the points from `c`
+//! across the normal (the torque that Coulomb friction at the points would give against a twist,
+//! when the points are at equal distances from the centre). The normal rows are solved first in each
+//! pass, then the patch with their new sum. The model of Rapier's `FrictionModel::Simplified`.
+//!
 //! Softness of a spring–damper of angular frequency `ω = 2π f` and damping ratio `ζ` discretised
 //! implicitly over the substep `h`: `a₁ = 2ζ + hω`, `a₂ = hω a₁`, `a₃ = 1/(1 + a₂)`, bias rate
 //! `β_s = ω/a₁`, mass scale `s_m = a₂ a₃`, impulse scale `s_i = a₃`.
@@ -75,6 +84,39 @@ impl Softness {
     }
 }
 
+/// How the resting contacts of free bodies take friction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrictionModel {
+    /// Coulomb friction at every contact point (the default).
+    #[default]
+    Point,
+    /// One friction disc at the centre of each manifold's points and one twist row about its
+    /// normal ([`Patch`]): fewer rows, a coarser friction.
+    Manifold,
+}
+
+impl FrictionModel {
+    /// The scene file's names, in the order of the variants.
+    pub const NAMES: [&'static str; 2] = ["point", "manifold"];
+
+    /// Parses a scene file's name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "point" => Some(Self::Point),
+            "manifold" => Some(Self::Manifold),
+            _ => None,
+        }
+    }
+
+    /// The scene file's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Point => Self::NAMES[0],
+            Self::Manifold => Self::NAMES[1],
+        }
+    }
+}
+
 /// One resting-contact constraint (world frame throughout).
 #[derive(Debug, Clone, Copy)]
 pub struct Constraint {
@@ -122,6 +164,168 @@ pub struct Manifold {
     pub points: (usize, usize),
     pub mu: f64,
     pub softness: Softness,
+    /// The warm start of its [`Patch`] (with [`FrictionModel::Manifold`]): the friction impulse
+    /// and the twist's angular impulse it ended the last step with, world frame (N·s, N·m·s).
+    pub friction_warm: [DVec3; 2],
+}
+
+/// The centre `c = (1/m) Σ p_i` of a manifold's points (m), its normal (the points' normal when
+/// they share one, as a convex pair's do; else their normalised sum) and the twist arm `ρ`: the mean
+/// distance of the points from `c` across that normal (m). `points` is not empty.
+pub fn patch_frame(points: &[ContactPoint]) -> (DVec3, DVec3, f64) {
+    let (c, n) = patch_centre(points);
+    let m = points.len() as f64;
+    let radius = points
+        .iter()
+        .map(|p| {
+            let d = p.point - c;
+            (d - d.dot(n) * n).length()
+        })
+        .sum::<f64>()
+        / m;
+    (c, n, radius)
+}
+
+/// The centre and the normal of [`patch_frame`].
+pub fn patch_centre(points: &[ContactPoint]) -> (DVec3, DVec3) {
+    let first = points[0].n;
+    let (mut sum_p, mut sum_n, mut shared) = (DVec3::ZERO, DVec3::ZERO, true);
+    for p in points {
+        sum_p += p.point;
+        sum_n += p.n;
+        shared &= p.n == first;
+    }
+    let n = if shared { first } else { sum_n.try_normalize().unwrap_or(first) };
+    (sum_p / points.len() as f64, n)
+}
+
+/// The friction of one manifold with [`FrictionModel::Manifold`] (module documentation): a 2-D
+/// friction row at the centre of its points and a twist row about its normal, world frame.
+#[derive(Debug, Clone, Copy)]
+pub struct Patch {
+    pub a: usize,
+    pub b: usize,
+    /// Offsets of the centre of the points from the centres of mass of A and B (m).
+    pub r_a: DVec3,
+    pub r_b: DVec3,
+    pub n: DVec3,
+    pub t1: DVec3,
+    pub t2: DVec3,
+    /// `K_tt⁻¹` at the centre as `[[a, b], [c, d]]` (kg).
+    pub tangent_mass: [f64; 4],
+    /// `K_tt` as `[k11, k12, k22]` (1/kg).
+    pub tangent_k: [f64; 3],
+    /// `I_a⁻¹ (r_a × t1)`, `I_a⁻¹ (r_a × t2)`, `I_a⁻¹ n`, and the same for B (1/(kg·m), 1/(kg·m²)).
+    pub ang_a: [DVec3; 3],
+    pub ang_b: [DVec3; 3],
+    /// `1/(nᵀ (I_a⁻¹ + I_b⁻¹) n)` (kg·m²).
+    pub twist_mass: f64,
+    /// The twist arm `ρ` (m): the twist row holds at most `μ ρ Σλ_n`.
+    pub radius: f64,
+    pub mu: f64,
+    /// Accumulated impulses of a substep: `λ_t1`, `λ_t2` (N·s) and the twist `λ_τ` (N·m·s).
+    pub lambda: [f64; 3],
+}
+
+impl Patch {
+    /// The patch of the manifold between bodies `a` and `b` with `points`, friction `mu`, warm
+    /// started from `warm` (its [`Manifold::friction_warm`]).
+    pub fn new(
+        bodies: &[SolverBody],
+        positions: &[DVec3],
+        a: usize,
+        b: usize,
+        points: &[ContactPoint],
+        mu: f64,
+        warm: [DVec3; 2],
+    ) -> Self {
+        let (ba, bb) = (&bodies[a], &bodies[b]);
+        let (c, n, radius) = patch_frame(points);
+        let (r_a, r_b) = (c - positions[a], c - positions[b]);
+        let (t1, t2) = tangent_basis(n);
+        let ang_a = [ba.inv_inertia * r_a.cross(t1), ba.inv_inertia * r_a.cross(t2), ba.inv_inertia * n];
+        let ang_b = [bb.inv_inertia * r_b.cross(t1), bb.inv_inertia * r_b.cross(t2), bb.inv_inertia * n];
+        // K d as in `Constraint::new`
+        let inv_mass = ba.inv_mass + bb.inv_mass;
+        let k_times = |j: usize, d: DVec3| inv_mass * d + ang_a[j].cross(r_a) + ang_b[j].cross(r_b);
+        let (k_t1, k_t2) = (k_times(0, t1), k_times(1, t2));
+        let (k11, k12, k22) = (t1.dot(k_t1), t1.dot(k_t2), t2.dot(k_t2));
+        let det = k11 * k22 - k12 * k12;
+        let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
+        Self {
+            a,
+            b,
+            r_a,
+            r_b,
+            n,
+            t1,
+            t2,
+            tangent_mass,
+            tangent_k: [k11, k12, k22],
+            ang_a,
+            ang_b,
+            twist_mass: if kww > 0.0 { 1.0 / kww } else { 0.0 },
+            radius,
+            mu,
+            lambda: [warm[0].dot(t1), warm[0].dot(t2), warm[1].dot(n)],
+        }
+    }
+
+    /// The friction impulse `d1 t1 + d2 t2` at the centre on B and its opposite on A.
+    #[inline]
+    fn apply_tangent(&self, ma: &mut Motion, mb: &mut Motion, d1: f64, d2: f64) {
+        let p = d1 * self.t1 + d2 * self.t2;
+        ma.v -= ma.inv_mass * p;
+        ma.w -= d1 * self.ang_a[0] + d2 * self.ang_a[1];
+        mb.v += mb.inv_mass * p;
+        mb.w += d1 * self.ang_b[0] + d2 * self.ang_b[1];
+    }
+
+    /// The angular impulse `dt n` on B and its opposite on A.
+    #[inline]
+    fn apply_twist(&self, ma: &mut Motion, mb: &mut Motion, dt: f64) {
+        ma.w -= dt * self.ang_a[2];
+        mb.w += dt * self.ang_b[2];
+    }
+
+    /// One pass over the patch with `normal_sum` the manifold's normal impulses `Σλ_n` (N·s):
+    /// friction at the centre (sticking inside the disc `μ Σλ_n`, else its point nearest `λ*` in the
+    /// metric of `K_tt`, as [`Constraint::solve`]), then the twist, clamped to `μ ρ Σλ_n`. Whether
+    /// an impulse is held.
+    #[inline]
+    pub fn solve(&mut self, ma: &mut Motion, mb: &mut Motion, normal_sum: f64) -> bool {
+        let u = mb.point_velocity(self.r_b) - ma.point_velocity(self.r_a);
+        let (ux, uy) = (u.dot(self.t1), u.dot(self.t2));
+        let m = self.tangent_mass;
+        let l1 = self.lambda[0] - (m[0] * ux + m[1] * uy);
+        let l2 = self.lambda[1] - (m[2] * ux + m[3] * uy);
+        let limit = self.mu * normal_sum;
+        let (l1, l2) = friction_on_disc(self.tangent_k, l1, l2, limit);
+        let (d1, d2) = (l1 - self.lambda[0], l2 - self.lambda[1]);
+        self.lambda[0] = l1;
+        self.lambda[1] = l2;
+        self.apply_tangent(ma, mb, d1, d2);
+        // the twist, with the spin the friction impulse left
+        let spin = (mb.w - ma.w).dot(self.n);
+        let twist_limit = limit * self.radius;
+        let twist = (self.lambda[2] - self.twist_mass * spin).max(-twist_limit).min(twist_limit);
+        let dt = twist - self.lambda[2];
+        self.lambda[2] = twist;
+        self.apply_twist(ma, mb, dt);
+        self.lambda != [0.0; 3]
+    }
+
+    /// Applies the accumulated impulses (warm start); whether there were any.
+    #[inline]
+    fn warm_start(&self, ma: &mut Motion, mb: &mut Motion) -> bool {
+        if self.lambda == [0.0; 3] {
+            return false;
+        }
+        self.apply_tangent(ma, mb, self.lambda[0], self.lambda[1]);
+        self.apply_twist(ma, mb, self.lambda[2]);
+        true
+    }
 }
 
 /// A contact point of a [`Manifold`]: where (m), the unit normal `n` (A → B), the signed distance
@@ -262,6 +466,41 @@ pub fn warm_start_pair(constraints: &[Constraint], bodies: &mut [SolverBody]) {
     mb.store(bodies, b, any);
 }
 
+/// [`solve_pair`] with [`FrictionModel::Manifold`]: the points' normal rows in the order of the
+/// sweep, then the pair's patch with their normal impulses' sum.
+#[inline]
+pub fn solve_patch_pair(constraints: &mut [Constraint], patch: &mut Patch, bodies: &mut [SolverBody], sweep: &Sweep) {
+    let (a, b) = (patch.a, patch.b);
+    let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
+    let (mut any, mut normal_sum) = (false, 0.0);
+    in_sweep_order(constraints, sweep, |k| {
+        debug_assert!(k.a == a && k.b == b);
+        any |= k.solve_normal(&mut ma, &mut mb, sweep);
+        normal_sum += k.lambda[0];
+    });
+    any |= patch.solve(&mut ma, &mut mb, normal_sum);
+    ma.store(bodies, a, any);
+    mb.store(bodies, b, any);
+}
+
+/// [`warm_start_pair`] with [`FrictionModel::Manifold`]: the points' normal impulses, then the
+/// patch's.
+#[inline]
+pub fn warm_start_patch_pair(constraints: &[Constraint], patch: &Patch, bodies: &mut [SolverBody]) {
+    let (a, b) = (patch.a, patch.b);
+    let (mut ma, mut mb) = (Motion::of(&bodies[a]), Motion::of(&bodies[b]));
+    let mut any = false;
+    for k in constraints {
+        if k.lambda[0] != 0.0 {
+            k.apply_normal(&mut ma, &mut mb, k.lambda[0]);
+            any = true;
+        }
+    }
+    any |= patch.warm_start(&mut ma, &mut mb);
+    ma.store(bodies, a, any);
+    mb.store(bodies, b, any);
+}
+
 /// The settings of one pass over the constraints.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sweep {
@@ -368,6 +607,56 @@ impl Constraint {
         mb.w += dn * self.ang_b[0] + d1 * self.ang_b[1] + d2 * self.ang_b[2];
     }
 
+    /// The normal row's new accumulated impulse at the normal velocity `un` (m/s): open, biased or
+    /// relaxing as the separation and the pass say.
+    #[inline]
+    fn normal_row(&self, ma: &Motion, mb: &Motion, sweep: &Sweep, un: f64) -> f64 {
+        let s = self.separation(ma, mb);
+        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+            (s * sweep.inv_h, 1.0, 0.0)
+        } else if sweep.pass == Pass::Solve {
+            let k = self.softness;
+            ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        // λ_n ← max(0, λ_n − m_n s_m (u_n + b) − s_i λ_n), the terms that do not wait for u_n first
+        let mass = self.normal_mass * mass_scale;
+        let rest = self.lambda[0] - mass * bias - impulse_scale * self.lambda[0];
+        (rest - mass * un).max(0.0)
+    }
+
+    /// The impulse `dn n` on B and its opposite on A.
+    #[inline]
+    fn apply_normal(&self, ma: &mut Motion, mb: &mut Motion, dn: f64) {
+        let p = dn * self.n;
+        ma.v -= ma.inv_mass * p;
+        ma.w -= dn * self.ang_a[0];
+        mb.v += mb.inv_mass * p;
+        mb.w += dn * self.ang_b[0];
+    }
+
+    /// The normal row alone ([`FrictionModel::Manifold`]: the manifold's [`Patch`] takes the
+    /// friction; `λ_t1 = λ_t2 = 0`), as in [`solve`](Self::solve). Whether an impulse is held.
+    #[inline]
+    pub fn solve_normal(&mut self, ma: &mut Motion, mb: &mut Motion, sweep: &Sweep) -> bool {
+        let u = mb.point_velocity(self.r_b) - ma.point_velocity(self.r_a);
+        let un = u.dot(self.n);
+        if self.speculative && -un > sweep.impact_speed {
+            if self.lambda[0] != 0.0 {
+                self.apply_normal(ma, mb, -self.lambda[0]);
+                self.lambda[0] = 0.0;
+                return true;
+            }
+            return false;
+        }
+        let new = self.normal_row(ma, mb, sweep, un);
+        let dn = new - self.lambda[0];
+        self.lambda[0] = new;
+        self.apply_normal(ma, mb, dn);
+        self.lambda[0] != 0.0
+    }
+
     /// One Gauss–Seidel pass over this constraint: the normal, then friction with the new normal
     /// impulse as the disc's radius. Whether an impulse is held.
     ///
@@ -389,20 +678,7 @@ impl Constraint {
             }
             return false;
         }
-        // normal
-        let s = self.separation(ma, mb);
-        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
-            (s * sweep.inv_h, 1.0, 0.0)
-        } else if sweep.pass == Pass::Solve {
-            let k = self.softness;
-            ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
-        } else {
-            (0.0, 1.0, 0.0)
-        };
-        // λ_n ← max(0, λ_n − m_n s_m (u_n + b) − s_i λ_n), the terms that do not wait for u_n first
-        let mass = self.normal_mass * mass_scale;
-        let rest = self.lambda[0] - mass * bias - impulse_scale * self.lambda[0];
-        let new = (rest - mass * un).max(0.0);
+        let new = self.normal_row(ma, mb, sweep, un);
         let dn = new - self.lambda[0];
         self.lambda[0] = new;
 

@@ -230,7 +230,7 @@ fn world_config(
 
 /// The contact keys of `[world]` → `config.contact` (ranges are checked by `WorldConfig::validate`).
 fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Result<(), SceneError> {
-    use crate::contact::RestitutionLaw;
+    use crate::contact::{FrictionModel, RestitutionLaw};
     let finite = |key: &str, l: &Loc<f64>| -> Result<f64, SceneError> {
         if l.value.is_finite() {
             Ok(l.value)
@@ -269,6 +269,21 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
     }
     if let Some(l) = &w.max_pairs {
         c.max_pairs = Some(l.value);
+    }
+    if let Some(l) = &w.friction_model {
+        c.friction_model = FrictionModel::from_name(&l.value).ok_or_else(|| {
+            let e = src
+                .error(
+                    l.span.as_ref(),
+                    "world.friction_model",
+                    format!("unknown friction model (expected one of: {})", FrictionModel::NAMES.join(", ")),
+                )
+                .got(format!("\"{}\"", l.value));
+            match nearest(&l.value, &FrictionModel::NAMES) {
+                Some(best) => e.hint(format!("did you mean `{best}`?")),
+                None => e,
+            }
+        })?;
     }
     if let Some(l) = &w.restitution_law {
         c.law = RestitutionLaw::from_name(&l.value).ok_or_else(|| {

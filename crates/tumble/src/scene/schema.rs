@@ -145,6 +145,8 @@ pub struct WorldDoc {
     pub impact_speed: Option<Loc<f64>>,
     /// Solver passes per substep of the resting-contact solver.
     pub contact_iterations: Option<Loc<u32>>,
+    /// `point` | `manifold`: friction at every contact point, or one disc and twist per manifold.
+    pub friction_model: Option<Loc<String>>,
     /// Substeps of the resting-contact solver per step.
     pub contact_substeps: Option<Loc<u32>>,
     /// m: overlap left uncorrected.
