@@ -1020,7 +1020,11 @@ impl LaneSolver {
             let start = overflow.len();
             let own = &points[m.points.0..m.points.1];
             for p in own {
-                let mut k = Constraint::new(bodies, positions, m.a, m.b, p.point, p.n, p.gap, m.mu, m.softness);
+                let mut k = if self.patch {
+                    Constraint::new_normal(bodies, positions, m.a, m.b, p.point, p.n, p.gap, m.softness)
+                } else {
+                    Constraint::new(bodies, positions, m.a, m.b, p.point, p.n, p.gap, m.mu, m.softness)
+                };
                 k.lambda = p.lambda;
                 overflow.push(k);
             }

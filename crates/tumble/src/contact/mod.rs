@@ -382,12 +382,13 @@ impl ContactStage {
         // nothing awake touches anything, and nobody fell asleep or woke since the last step: the
         // contacts, their impulses and the warm starts are the last step's
         let epoch = self.sleep.epoch();
-        let steady = fresh.is_empty() && self.steady == Some(epoch);
+        let none_found = fresh.is_empty();
+        let steady = none_found && self.steady == Some(epoch);
         self.kept = steady;
         if !steady {
-            self.merge_frozen(bodies, &fresh);
+            self.merge_frozen(bodies, &mut fresh);
         }
-        self.steady = fresh.is_empty().then_some(epoch);
+        self.steady = none_found.then_some(epoch);
         self.fresh = fresh;
         if !self.links.colliders.is_empty() {
             let mut clock = crate::profile::Clock::start(self.profile.is_some());
@@ -491,11 +492,22 @@ impl ContactStage {
     /// The contacts of the step: the narrow phase's (`fresh`) and, merged in pair order, the kept
     /// contacts of pairs whose bodies are both asleep or fixed, with their impulses and
     /// accumulated impulses.
-    fn merge_frozen(&mut self, bodies: &[RigidBody], fresh: &[Contact]) {
+    /// `fresh` is left with no meaning (the narrow phase clears it).
+    fn merge_frozen(&mut self, bodies: &[RigidBody], fresh: &mut Vec<Contact>) {
         self.contacts.clear();
         self.impulses.clear();
         self.lambdas.clear();
         self.frozen.clear();
+        if self.sleep.frozen.is_empty() {
+            // nothing kept (nobody asleep): the narrow phase's list is the step's, its buffer and
+            // the last step's swapped rather than copied
+            std::mem::swap(&mut self.contacts, fresh);
+            let n = self.contacts.len();
+            self.impulses.resize(n, DVec3::ZERO);
+            self.lambdas.resize(n, [0.0; 3]);
+            self.frozen.resize(n, false);
+            return;
+        }
         let kept = self.sleep.frozen.iter().filter(|f| {
             let c = &f.contact;
             self.sleep.resting(bodies, c.a) && self.sleep.resting(bodies, c.b)

@@ -588,6 +588,48 @@ impl Constraint {
         }
     }
 
+    /// [`new`](Self::new) for the normal row alone ([`FrictionModel::Manifold`]: its manifold's
+    /// [`Patch`] takes the friction): the same normal row, no tangents (the fields of friction
+    /// zero).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new_normal(
+        bodies: &[SolverBody],
+        positions: &[DVec3],
+        a: usize,
+        b: usize,
+        point: DVec3,
+        n: DVec3,
+        gap: f64,
+        softness: Softness,
+    ) -> Self {
+        let (ba, bb) = (&bodies[a], &bodies[b]);
+        let (r_a, r_b) = (point - positions[a], point - positions[b]);
+        let (ang_a, ang_b) = (ba.inv_inertia * r_a.cross(n), bb.inv_inertia * r_b.cross(n));
+        // nᵀ K n as in `new`
+        let k_n = (ba.inv_mass + bb.inv_mass) * n + ang_a.cross(r_a) + ang_b.cross(r_b);
+        let knn = n.dot(k_n);
+        Self {
+            a,
+            b,
+            r_a,
+            r_b,
+            n,
+            t1: DVec3::ZERO,
+            t2: DVec3::ZERO,
+            adjusted_gap: gap - n.dot(r_b - r_a),
+            normal_mass: if knn > 0.0 { 1.0 / knn } else { 0.0 },
+            tangent_per_normal: [0.0; 2],
+            tangent_mass: [0.0; 4],
+            tangent_k: [0.0; 3],
+            ang_a: [ang_a, DVec3::ZERO, DVec3::ZERO],
+            ang_b: [ang_b, DVec3::ZERO, DVec3::ZERO],
+            mu: 0.0,
+            softness,
+            speculative: gap > 0.0,
+            lambda: [0.0; 3],
+        }
+    }
+
     /// The separation at the current substep (m), from the bodies' motion since the step began.
     #[inline]
     fn separation(&self, ma: &Motion, mb: &Motion) -> f64 {
