@@ -3,6 +3,7 @@
 
 mod contact_support;
 use contact_support::*;
+use tumble::contact::FrictionModel;
 use tumble::math::{DQuat, DVec3};
 
 const G: f64 = 9.81;
@@ -20,23 +21,42 @@ fn run(w: &mut tumble::World, seconds: f64) -> f64 {
     worst
 }
 
-#[test]
-fn ten_boxes_stacked_stay_put_for_ten_seconds() {
+fn ten_boxes_stacked_stay_put_for_ten_seconds(model: FrictionModel) {
     let h = DVec3::splat(0.5);
     let mut bodies = vec![material(ground(DQuat::IDENTITY), 0.5, 0.0)];
     for i in 0..10 {
         bodies.push(material(cuboid(&format!("box{i}"), h, 1.0, DVec3::new(0.0, 0.0, 0.5 + i as f64)), 0.5, 0.0));
     }
     let mut w = world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), bodies);
+    w.config.contact.friction_model = model;
     let drift = run(&mut w, 10.0);
-    eprintln!("ten-box tower: worst displacement {drift:.5} m over 10 s");
+    eprintln!("ten-box tower, friction {model:?}: worst displacement {drift:.5} m over 10 s");
     assert!(drift < 0.01, "a box moved {drift} m");
     let jitter = w.bodies.iter().map(|b| b.state.velocity.length()).fold(0.0, f64::max);
     assert!(jitter < 1e-3, "residual speed {jitter} m/s");
 }
 
 #[test]
-fn pyramid_ten_wide_stands_for_ten_seconds() {
+fn ten_boxes_stacked_stay_put_for_ten_seconds_with_friction_at_the_points() {
+    ten_boxes_stacked_stay_put_for_ten_seconds(FrictionModel::Point);
+}
+
+#[test]
+fn ten_boxes_stacked_stay_put_for_ten_seconds_with_friction_per_manifold() {
+    ten_boxes_stacked_stay_put_for_ten_seconds(FrictionModel::Manifold);
+}
+
+#[test]
+fn pyramid_ten_wide_stands_for_ten_seconds_with_friction_at_the_points() {
+    pyramid_ten_wide_stands_for_ten_seconds(FrictionModel::Point);
+}
+
+#[test]
+fn pyramid_ten_wide_stands_for_ten_seconds_with_friction_per_manifold() {
+    pyramid_ten_wide_stands_for_ten_seconds(FrictionModel::Manifold);
+}
+
+fn pyramid_ten_wide_stands_for_ten_seconds(model: FrictionModel) {
     let h = DVec3::splat(0.5);
     let mut bodies = vec![material(ground(DQuat::IDENTITY), 0.5, 0.0)];
     for row in 0..10 {
@@ -47,8 +67,9 @@ fn pyramid_ten_wide_stands_for_ten_seconds() {
         }
     }
     let mut w = world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), bodies);
+    w.config.contact.friction_model = model;
     let drift = run(&mut w, 10.0);
-    eprintln!("pyramid 10 wide: worst displacement {drift:.5} m over 10 s");
+    eprintln!("pyramid 10 wide, friction {model:?}: worst displacement {drift:.5} m over 10 s");
     assert!(drift < 0.01, "a box of the pyramid moved {drift} m");
 }
 
@@ -78,15 +99,26 @@ fn heavy_box_on_a_light_one_does_not_sink_in() {
 /// sink included).
 #[test]
 fn heavy_box_on_a_light_one_does_not_rock_or_walk() {
+    heavy_box_on_a_light_one_stays(FrictionModel::Point);
+}
+
+/// The same with friction per manifold.
+#[test]
+fn heavy_box_on_a_light_one_does_not_rock_or_walk_with_friction_per_manifold() {
+    heavy_box_on_a_light_one_stays(FrictionModel::Manifold);
+}
+
+fn heavy_box_on_a_light_one_stays(model: FrictionModel) {
     let h = DVec3::splat(0.5);
     let light = material(cuboid("light", h, 1.0, DVec3::new(0.0, 0.0, 0.5)), 0.5, 0.0);
     let heavy = material(cuboid("heavy", h, 10.0, DVec3::new(0.0, 0.0, 1.5)), 0.5, 0.0);
     let mut w =
         world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), vec![material(ground(DQuat::IDENTITY), 0.5, 0.0), light, heavy]);
     w.config.contact.sleep = false;
+    w.config.contact.friction_model = model;
     let drift = run(&mut w, 1000.0 / 60.0);
     let spin = w.bodies[1].state.omega_body.length().max(w.bodies[2].state.omega_body.length());
-    eprintln!("10:1 stack awake, 1,000 steps: largest displacement {drift:.2e} m, spin at the end {spin:.1e} rad/s");
+    eprintln!("10:1 stack awake, friction {model:?}, 1,000 steps: largest displacement {drift:.2e} m, spin at the end {spin:.1e} rad/s");
     assert!(drift < 3e-3, "the stack walked {drift} m");
     assert!(spin < 1e-3, "a box still turns at {spin} rad/s");
 }
