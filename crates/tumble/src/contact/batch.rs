@@ -1522,6 +1522,22 @@ mod tests {
         (bodies, moving, constraints, groups)
     }
 
+    /// `random` distinct pairs `(a, b)`, `a < b`, `b` moving, and every pair of `hub` with the others (a
+    /// hub in more pairs than there are colours: some manifolds overflow), sorted.
+    fn random_pairs(rng: &mut Rng, count: usize, hub: usize, moving: &[bool], random: usize) -> Vec<(usize, usize)> {
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        while pairs.len() < random {
+            let (a, b) = ((rng.next() % count as u64) as usize, (rng.next() % count as u64) as usize);
+            if a < b && moving[b] && !pairs.contains(&(a, b)) {
+                pairs.push((a, b));
+            }
+        }
+        pairs.extend((0..count).filter(|&i| i != hub).map(|i| (i.min(hub), i.max(hub))));
+        pairs.sort();
+        pairs.dedup();
+        pairs
+    }
+
     /// What the scalar solves went through.
     #[derive(Debug, Default)]
     struct Branches {
@@ -1732,17 +1748,7 @@ mod tests {
                 let (count, hub) = (30 + (seed as usize % 4) * 8, 1 + seed as usize % 3);
                 let (bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
                 let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
-                let mut pairs: Vec<(usize, usize)> = Vec::new();
-                while pairs.len() < 3 * count {
-                    let (a, b) = ((rng.next() % count as u64) as usize, (rng.next() % count as u64) as usize);
-                    if a < b && moving[b] && !pairs.contains(&(a, b)) {
-                        pairs.push((a, b));
-                    }
-                }
-                // a hub in more pairs than there are colours: some manifolds overflow
-                pairs.extend((0..count).filter(|&i| i != hub).map(|i| (i.min(hub), i.max(hub))));
-                pairs.sort();
-                pairs.dedup();
+                let pairs = random_pairs(&mut rng, count, hub, &moving, 3 * count);
                 let (mut manifolds, mut points, mut constraints, mut groups) = (vec![], vec![], vec![], vec![]);
                 for (a, b) in pairs {
                     let start = points.len();
@@ -1841,16 +1847,7 @@ mod tests {
                 let (count, hub) = (20 + (seed as usize % 4) * 8, 1 + seed as usize % 3);
                 let (bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
                 let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
-                let mut pairs: Vec<(usize, usize)> = Vec::new();
-                while pairs.len() < 2 * count {
-                    let (a, b) = ((rng.next() % count as u64) as usize, (rng.next() % count as u64) as usize);
-                    if a < b && moving[b] && !pairs.contains(&(a, b)) {
-                        pairs.push((a, b));
-                    }
-                }
-                pairs.extend((0..count).filter(|&i| i != hub).map(|i| (i.min(hub), i.max(hub))));
-                pairs.sort();
-                pairs.dedup();
+                let pairs = random_pairs(&mut rng, count, hub, &moving, 2 * count);
                 let (mut manifolds, mut points) = (vec![], vec![]);
                 for (a, b) in pairs {
                     let start = points.len();

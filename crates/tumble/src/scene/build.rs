@@ -271,36 +271,41 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
         c.max_pairs = Some(l.value);
     }
     if let Some(l) = &w.friction_model {
-        c.friction_model = FrictionModel::from_name(&l.value).ok_or_else(|| {
-            let e = src
-                .error(
-                    l.span.as_ref(),
-                    "world.friction_model",
-                    format!("unknown friction model (expected one of: {})", FrictionModel::NAMES.join(", ")),
-                )
-                .got(format!("\"{}\"", l.value));
-            match nearest(&l.value, &FrictionModel::NAMES) {
-                Some(best) => e.hint(format!("did you mean `{best}`?")),
-                None => e,
-            }
-        })?;
+        c.friction_model =
+            one_of(src, l, "world.friction_model", "friction model", &FrictionModel::NAMES, FrictionModel::from_name)?;
     }
     if let Some(l) = &w.restitution_law {
-        c.law = RestitutionLaw::from_name(&l.value).ok_or_else(|| {
-            let e = src
-                .error(
-                    l.span.as_ref(),
-                    "world.restitution_law",
-                    format!("unknown restitution law (expected one of: {})", RestitutionLaw::NAMES.join(", ")),
-                )
-                .got(format!("\"{}\"", l.value));
-            match nearest(&l.value, &RestitutionLaw::NAMES) {
-                Some(best) => e.hint(format!("did you mean `{best}`?")),
-                None => e,
-            }
-        })?;
+        c.law = one_of(
+            src,
+            l,
+            "world.restitution_law",
+            "restitution law",
+            &RestitutionLaw::NAMES,
+            RestitutionLaw::from_name,
+        )?;
     }
     Ok(())
+}
+
+/// The value a scene names, `parse(name)`, one of `names`; else an error at the name's place in
+/// the file naming `field`, what it is (`what`) and the names, with the nearest as a hint.
+fn one_of<T>(
+    src: &Source,
+    l: &Loc<String>,
+    field: &str,
+    what: &str,
+    names: &[&str],
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<T, SceneError> {
+    parse(&l.value).ok_or_else(|| {
+        let e = src
+            .error(l.span.as_ref(), field, format!("unknown {what} (expected one of: {})", names.join(", ")))
+            .got(format!("\"{}\"", l.value));
+        match nearest(&l.value, names) {
+            Some(best) => e.hint(format!("did you mean `{best}`?")),
+            None => e,
+        }
+    })
 }
 
 /// `no_collide = ["name", ...]` of each `[[body]]` → pairs excluded from collision.
