@@ -227,7 +227,7 @@ impl<L: SolveLanes> Slot<L> {
     /// Whether the lanes' accumulated impulses are nonzero (`λ != [0; 3]`).
     #[inline(always)]
     fn holds(&self) -> L {
-        self.lambda[0].ne(L::splat(0.0)) | self.lambda[1].ne(L::splat(0.0)) | self.lambda[2].ne(L::splat(0.0))
+        nonzero(&self.lambda)
     }
 
     /// [`Constraint::apply`] in the lanes of `mask` (the others keep their velocities bit for bit).
@@ -412,10 +412,17 @@ struct PatchSlot<L> {
     lambda_sum: [L; 3],
 }
 
+/// The lanes in which any of three accumulated impulses is nonzero.
+#[inline(always)]
+fn nonzero<L: SolveLanes>(lambda: &[L; 3]) -> L {
+    let zero = L::splat(0.0);
+    lambda[0].ne(zero) | lambda[1].ne(zero) | lambda[2].ne(zero)
+}
+
 impl<L: SolveLanes> PatchSlot<L> {
     #[inline(always)]
     fn holds(&self) -> L {
-        self.lambda[0].ne(L::splat(0.0)) | self.lambda[1].ne(L::splat(0.0)) | self.lambda[2].ne(L::splat(0.0))
+        nonzero(&self.lambda)
     }
 
     /// [`Patch`]'s friction impulse in the lanes of `mask`.
@@ -627,6 +634,42 @@ fn inv_inertia4<L: SolveLanes>(bodies: &[SolverBody], side: &[usize; LANES]) -> 
     ]
 }
 
+/// What the build of a batch takes from its two sides' bodies: the world inverse inertias by
+/// columns, the summed inverse masses `1/m_a + 1/m_b` and the centres of mass (zeros for [`NONE`]).
+struct Sides<L> {
+    inertia_a: [V3<L>; 3],
+    inertia_b: [V3<L>; 3],
+    inv_mass: L,
+    center_a: V3<L>,
+    center_b: V3<L>,
+}
+
+impl<L: SolveLanes> Sides<L> {
+    #[inline(always)]
+    fn of(batch: &Batch, input: &PointInput) -> Self {
+        let bodies = input.bodies;
+        let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
+        let position = |i: usize| if i == NONE { DVec3::ZERO } else { input.positions[i] };
+        Self {
+            inertia_a: inv_inertia4::<L>(bodies, &batch.a),
+            inertia_b: inv_inertia4::<L>(bodies, &batch.b),
+            inv_mass: lanes_of::<L>(|k| body(batch.a[k]).inv_mass) + lanes_of::<L>(|k| body(batch.b[k]).inv_mass),
+            center_a: V3::<L>::gather(|k| position(batch.a[k])),
+            center_b: V3::<L>::gather(|k| position(batch.b[k])),
+        }
+    }
+}
+
+/// `K_tt⁻¹ = adj(K_tt)/det` as `[[a, b], [c, d]]` in the lanes of `valid` where `det > 0` (zeros
+/// elsewhere), as the scalar [`tangent_inverse`](super::solver::tangent_inverse).
+#[inline(always)]
+fn tangent_inverse<L: SolveLanes>(valid: L, k11: L, k12: L, k22: L) -> [L; 4] {
+    let det = k11 * k22 - k12 * k12;
+    let invertible = valid & det.gt(L::splat(0.0));
+    let cross_mass = keep(invertible, k12.neg() / det);
+    [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)]
+}
+
 /// The tangents of the unit normals `n`, as `impact::tangent_basis` (glam's
 /// `any_orthonormal_vector`); `sign` the signs of `n.z` (`f64::signum`).
 #[inline(always)]
@@ -644,14 +687,8 @@ fn tangents<L: SolveLanes>(n: V3<L>, sign: L) -> (V3<L>, V3<L>) {
 fn load_patches_in<L: SolveLanes>(batches: &[Batch], patches: &mut [PatchSlot<L>], input: &PointInput) {
     let zero = L::splat(0.0);
     let all = f64::from_bits(u64::MAX);
-    let bodies = input.bodies;
     for (batch, patch) in batches.iter().zip(patches) {
-        let (inertia_a, inertia_b) = (inv_inertia4::<L>(bodies, &batch.a), inv_inertia4::<L>(bodies, &batch.b));
-        let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
-        let position = |i: usize| if i == NONE { DVec3::ZERO } else { input.positions[i] };
-        let inv_mass = lanes_of::<L>(|k| body(batch.a[k]).inv_mass) + lanes_of::<L>(|k| body(batch.b[k]).inv_mass);
-        let center_a = V3::<L>::gather(|k| position(batch.a[k]));
-        let center_b = V3::<L>::gather(|k| position(batch.b[k]));
+        let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = Sides::of(batch, input);
         let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
         let frame = [0, 1, 2, 3].map(|k| {
             manifold(k).map_or((DVec3::ZERO, DVec3::Z, 0.0), |m| patch_frame(&input.points[m.points.0..m.points.1]))
@@ -669,16 +706,13 @@ fn load_patches_in<L: SolveLanes>(batches: &[Batch], patches: &mut [PatchSlot<L>
         let k11 = t1.dot(k_t1);
         let k12 = t1.dot(k_t2);
         let k22 = t2.dot(k_t2);
-        let det = k11 * k22 - k12 * k12;
-        let invertible = valid & det.gt(zero);
-        let cross_mass = keep(invertible, k12.neg() / det);
         let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
         patch.r_a = keep3(valid, r_a);
         patch.r_b = keep3(valid, r_b);
         patch.n = keep3(valid, n);
         patch.t1 = keep3(valid, t1);
         patch.t2 = keep3(valid, t2);
-        patch.tangent_mass = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+        patch.tangent_mass = tangent_inverse(valid, k11, k12, k22);
         patch.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
         patch.ang_a = ang_a.map(|v| keep3(valid, v));
         patch.ang_b = ang_b.map(|v| keep3(valid, v));
@@ -711,12 +745,7 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
     let bodies = input.bodies;
     for batch in batches {
         // the bodies and the manifold of each lane: the same for all the batch's slots
-        let (inertia_a, inertia_b) = (inv_inertia4::<L>(bodies, &batch.a), inv_inertia4::<L>(bodies, &batch.b));
-        let body = |i: usize| if i == NONE { &SolverBody::FIXED } else { &bodies[i] };
-        let position = |i: usize| if i == NONE { DVec3::ZERO } else { input.positions[i] };
-        let inv_mass = lanes_of::<L>(|k| body(batch.a[k]).inv_mass) + lanes_of::<L>(|k| body(batch.b[k]).inv_mass);
-        let center_a = V3::<L>::gather(|k| position(batch.a[k]));
-        let center_b = V3::<L>::gather(|k| position(batch.b[k]));
+        let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = Sides::of(batch, input);
         let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
         let mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
         let bias_rate = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.bias_rate));
@@ -781,14 +810,11 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
             let k11 = t1.dot(k_t1);
             let k12 = t1.dot(k_t2);
             let k22 = t2.dot(k_t2);
-            let det = k11 * k22 - k12 * k12;
-            let invertible = valid & det.gt(zero);
-            let cross_mass = keep(invertible, k12.neg() / det);
             slot.t1 = keep3(valid, t1);
             slot.t2 = keep3(valid, t2);
             slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
             let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
-            let m = [keep(invertible, k22 / det), cross_mass, cross_mass, keep(invertible, k11 / det)];
+            let m = tangent_inverse(valid, k11, k12, k22);
             slot.tangent_mass = m;
             slot.tangent_per_normal = [keep(valid, m[0] * k1n + m[1] * k2n), keep(valid, m[2] * k1n + m[3] * k2n)];
             slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];

@@ -169,6 +169,17 @@ pub struct Manifold {
     pub friction_warm: [DVec3; 2],
 }
 
+/// `K_tt⁻¹ = adj(K_tt)/det` as `[[a, b], [c, d]]` for `K_tt = [k11 k12; k12 k22]` (kg); zeros when
+/// `det ≤ 0` (no tangential response).
+pub(super) fn tangent_inverse(k11: f64, k12: f64, k22: f64) -> [f64; 4] {
+    let det = k11 * k22 - k12 * k12;
+    if det > 0.0 {
+        [k22 / det, -k12 / det, -k12 / det, k11 / det]
+    } else {
+        [0.0; 4]
+    }
+}
+
 /// The centre `c = (1/m) Σ p_i` of a manifold's points (m), its normal (the points' normal when
 /// they share one, as a convex pair's do; else their normalised sum) and the twist arm `ρ`: the mean
 /// distance of the points from `c` across that normal (m). `points` is not empty.
@@ -250,8 +261,7 @@ impl Patch {
         let k_times = |j: usize, d: DVec3| inv_mass * d + ang_a[j].cross(r_a) + ang_b[j].cross(r_b);
         let (k_t1, k_t2) = (k_times(0, t1), k_times(1, t2));
         let (k11, k12, k22) = (t1.dot(k_t1), t1.dot(k_t2), t2.dot(k_t2));
-        let det = k11 * k22 - k12 * k12;
-        let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        let tangent_mass = tangent_inverse(k11, k12, k22);
         let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
         Self {
             a,
@@ -560,8 +570,7 @@ impl Constraint {
         let (k_n, k_t1, k_t2) = (k_times(0, n), k_times(1, t1), k_times(2, t2));
         let knn = n.dot(k_n);
         let (k11, k12, k22) = (t1.dot(k_t1), t1.dot(k_t2), t2.dot(k_t2));
-        let det = k11 * k22 - k12 * k12;
-        let tangent_mass = if det > 0.0 { [k22 / det, -k12 / det, -k12 / det, k11 / det] } else { [0.0; 4] };
+        let tangent_mass = tangent_inverse(k11, k12, k22);
         Self {
             a,
             b,

@@ -6,8 +6,8 @@
 //! `lo_i,k ≤ hi_j,k ∧ lo_j,k ≤ hi_i,k` for `k = x, y, z`,
 //!
 //! without pairs of two fixed bodies; each plane (unbounded) paired with every free body whose
-//! box reaches within half the prediction margin of it; the scene's excluded pairs left out; sorted by `(i, j)`. A body's box is its shape's box at the
-//! start of the step grown by the distance it can travel in the step (`|v| dt + |ω| ρ dt +
+//! box reaches within half the prediction margin of it; the scene's excluded pairs left out; sorted
+//! by `(i, j)`. A body's box is its shape's box at the start of the step grown by the distance it can travel in the step (`|v| dt + |ω| ρ dt +
 //! ½ |g_body| dt²`, `ρ` the bounding radius) and half the prediction margin. The pairs depend on
 //! the boxes alone, not on how they were found: the grid below gives the set a test of every pair
 //! would give, in the same order.
