@@ -5,7 +5,8 @@
 //! (`Simplified`, the default: one friction row and a twist per manifold; `Coulomb`: friction at
 //! every point). tumble: `contact_substeps`, `contact_iterations` and its friction model (`point`,
 //! the default: friction at every point; `manifold`: one friction disc and a twist per manifold,
-//! an option). Every setting runs the scene
+//! an option) and `manifold_reuse` (the default `1e-4`, or [`LOOSE_REUSE`], about the 1 mm that
+//! parry reuses Rapier's manifolds for on these unit boxes). Every setting runs the scene
 //! with sleeping off (the work of every step) and gives a point: time per step, against the
 //! settling drift (the largest displacement of a moving body between the start and the end of the
 //! run) and the overlap (the deepest penetration between two shapes at the end, found by parry on
@@ -20,11 +21,16 @@ use rapier3d_f64::prelude::*;
 use std::path::Path;
 use std::time::Instant;
 
+/// tumble's looser `manifold_reuse` swept beside the default: 1e-3 of the smaller shape's bounding
+/// radius, 0.87 mm for the pyramid's unit boxes.
+pub const LOOSE_REUSE: f64 = 1e-3;
+
 /// One knob setting of one engine.
 #[derive(Clone, Copy, Debug)]
 pub enum Setting {
-    /// tumble: `contact_substeps`, `contact_iterations`, friction per manifold (else at every point).
-    Tumble { substeps: u32, iterations: u32, manifold: bool },
+    /// tumble: `contact_substeps`, `contact_iterations`, friction per manifold (else at every point),
+    /// `manifold_reuse = LOOSE_REUSE` (else the default).
+    Tumble { substeps: u32, iterations: u32, manifold: bool, loose: bool },
     /// Rapier: `num_solver_iterations`, `num_internal_pgs_iterations`, Coulomb friction at every
     /// point (else the default `Simplified` model).
     Rapier { iterations: usize, pgs: usize, coulomb: bool },
@@ -40,9 +46,11 @@ impl Setting {
 
     pub fn label(&self) -> String {
         match *self {
-            Setting::Tumble { substeps, iterations, manifold } => {
-                format!("substeps {substeps}, iterations {iterations}{}", if manifold { ", manifold" } else { "" })
-            }
+            Setting::Tumble { substeps, iterations, manifold, loose } => format!(
+                "substeps {substeps}, iterations {iterations}{}{}",
+                if manifold { ", manifold" } else { "" },
+                if loose { format!(", reuse {LOOSE_REUSE:e}") } else { String::new() }
+            ),
             Setting::Rapier { iterations, pgs, coulomb } => {
                 format!("iterations {iterations}, pgs {pgs}{}", if coulomb { ", Coulomb" } else { "" })
             }
@@ -52,8 +60,8 @@ impl Setting {
     fn is_default(&self) -> bool {
         let d = tumble::contact::ContactSettings::default();
         match *self {
-            Setting::Tumble { substeps, iterations, manifold } => {
-                substeps == d.substeps && iterations == d.iterations && !manifold
+            Setting::Tumble { substeps, iterations, manifold, loose } => {
+                substeps == d.substeps && iterations == d.iterations && !manifold && !loose
             }
             Setting::Rapier { iterations, pgs, coulomb } => {
                 let r = IntegrationParameters::default();
@@ -63,14 +71,17 @@ impl Setting {
     }
 }
 
-/// The settings swept: tumble's substeps × iterations with either friction model, Rapier's
+/// The settings swept: tumble's substeps × iterations with either friction model and either
+/// manifold reuse, Rapier's
 /// iterations × PGS passes with its default friction, and its iterations with Coulomb friction.
 pub fn settings() -> Vec<Setting> {
     let mut s = Vec::new();
-    for manifold in [false, true] {
-        for iterations in [1, 2] {
-            for substeps in [1, 2, 3, 4, 6, 8, 12] {
-                s.push(Setting::Tumble { substeps, iterations, manifold });
+    for loose in [false, true] {
+        for manifold in [false, true] {
+            for iterations in [1, 2] {
+                for substeps in [1, 2, 3, 4, 6, 8, 12] {
+                    s.push(Setting::Tumble { substeps, iterations, manifold, loose });
+                }
             }
         }
     }
@@ -132,13 +143,16 @@ fn largest_displacement(world: &tumble::World, end: &[Option<Pose>]) -> f64 {
 /// Runs `world` for `steps` steps with `setting`, sleeping off.
 pub fn run(world: &tumble::World, steps: usize, setting: Setting) -> Point {
     match setting {
-        Setting::Tumble { substeps, iterations, manifold } => {
+        Setting::Tumble { substeps, iterations, manifold, loose } => {
             let mut w = world.clone();
             w.config.contact.sleep = false;
             w.config.contact.substeps = substeps;
             w.config.contact.iterations = iterations;
             if manifold {
                 w.config.contact.friction_model = tumble::contact::FrictionModel::Manifold;
+            }
+            if loose {
+                w.config.contact.manifold_reuse = LOOSE_REUSE;
             }
             let t = Instant::now();
             for _ in 0..steps {
@@ -294,8 +308,8 @@ pub fn write_csv(curves: &[Curve], path: &Path) -> std::io::Result<()> {
 }
 
 /// The curves as an SVG, one panel per scene: time per step (log) against drift (log); each
-/// engine's points (tumble's with friction per manifold hollow) and its lower envelope (the least
-/// drift reached at each cost).
+/// engine's points (tumble's with friction per manifold hollow, with the looser manifold reuse
+/// as squares) and its lower envelope (the least drift reached at each cost).
 pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let width = 520 * curves.len() as u32;
@@ -344,16 +358,21 @@ pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Err
                 .draw_series(LineSeries::new(envelope, colour.stroke_width(2)))?
                 .label(engine)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
-            // tumble's settings with friction per manifold drawn hollow
-            let hollow: Vec<(f64, f64)> = c
-                .points
-                .iter()
-                .filter(|(s, _)| matches!(s, Setting::Tumble { manifold: true, .. }) && engine == "tumble")
-                .map(|(_, p)| (p.ms_per_step, drift(p)))
-                .collect();
-            chart
-                .draw_series(pts.iter().filter(|p| !hollow.contains(p)).map(|&p| Circle::new(p, 3, colour.filled())))?;
-            chart.draw_series(hollow.iter().map(|&p| Circle::new(p, 3, colour.stroke_width(1))))?;
+            // tumble's settings with friction per manifold drawn hollow, with the looser reuse as squares
+            for (s, p) in c.points.iter().filter(|(s, _)| s.engine() == engine) {
+                let (manifold, loose) = match *s {
+                    Setting::Tumble { manifold, loose, .. } => (manifold, loose),
+                    Setting::Rapier { .. } => (false, false),
+                };
+                let style = if manifold { colour.stroke_width(1) } else { colour.filled() };
+                let at = (p.ms_per_step, drift(p));
+                if loose {
+                    let square = EmptyElement::at(at) + Rectangle::new([(-3, -3), (3, 3)], style);
+                    chart.draw_series(std::iter::once(square))?;
+                } else {
+                    chart.draw_series(std::iter::once(Circle::new(at, 3, style)))?;
+                }
+            }
         }
         chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
     }

@@ -7,7 +7,7 @@
 //! `narrow_phase`, `impacts`, `resting` (constraints and the soft solver), `integration` — or of the
 //! whole `step`; after 300 steps the world goes back to the state at step 200, so that every sample
 //! measures the same stretch of the scene. `narrow_phase_fresh` is the narrow phase with every
-//! pair's manifold made afresh at every step (`Colliders::set_reuse_fraction(0)`), as before the
+//! pair's manifold made afresh at every step (`manifold_reuse = 0`), as before the
 //! manifolds were kept.
 //!
 //! `cargo bench -p tumble --bench contact_stages -- --warm-up-time 1 --measurement-time 3`
@@ -47,8 +47,7 @@ fn warmed(scene: &str) -> World {
 fn fresh_copy(base: &World, reuse: bool) -> World {
     let mut world = base.clone();
     if !reuse {
-        let bodies = world.bodies.clone();
-        world.contact_stage().colliders_mut(&bodies).set_reuse_fraction(0.0);
+        world.config.contact.manifold_reuse = 0.0;
     }
     world.set_profiling(true);
     world

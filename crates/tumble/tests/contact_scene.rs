@@ -26,6 +26,9 @@ fn world_contact_settings_are_read() {
     let c = load("version = 1\n").unwrap().world.config.contact;
     assert_eq!((c.sleep, c.sleep_speed, c.sleep_time), (true, 0.01, 0.25));
     assert_eq!(c.friction_model, FrictionModel::Point);
+    assert_eq!(c.manifold_reuse, tumble::collision::REUSE_FRACTION);
+    let c = load("version = 1\n[world]\nmanifold_reuse = 1e-3\n").unwrap().world.config.contact;
+    assert_eq!(c.manifold_reuse, 1e-3);
     for model in [FrictionModel::Point, FrictionModel::Manifold] {
         let text = format!("version = 1\n[world]\nfriction_model = \"{}\"\n", model.name());
         assert_eq!(load(&text).unwrap().world.config.contact.friction_model, model);
@@ -48,6 +51,8 @@ fn bad_contact_settings_name_the_field_and_the_line() {
         ("sleep_speed = -1.0", "world.sleep_speed"),
         ("sleep_time = inf", "world.sleep_time"),
         ("sleep = 1", "sleep"),
+        ("manifold_reuse = -1e-3", "world.manifold_reuse"),
+        ("manifold_reuse = 0.5", "world.manifold_reuse"),
     ];
     for (line, field) in cases {
         let err = load(&format!("version = 1\n[world]\n{line}\n")).unwrap_err();

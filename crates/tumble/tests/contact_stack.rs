@@ -56,7 +56,28 @@ fn pyramid_ten_wide_stands_for_ten_seconds_with_friction_per_manifold() {
     pyramid_ten_wide_stands_for_ten_seconds(FrictionModel::Manifold);
 }
 
-fn pyramid_ten_wide_stands_for_ten_seconds(model: FrictionModel) {
+/// A looser manifold reuse (`manifold_reuse = 1e-3`, about parry's own 1 mm for these boxes) keeps
+/// the pyramid within the same limit, and reuses more manifolds than the default; `0` reuses none.
+#[test]
+fn pyramid_ten_wide_stands_with_looser_manifold_reuse() {
+    let mut reused = Vec::new();
+    for reuse in [0.0, tumble::collision::REUSE_FRACTION, 1e-3] {
+        let mut w = pyramid_ten_wide(FrictionModel::Point);
+        w.config.contact.manifold_reuse = reuse;
+        // awake throughout: every pair goes through the narrow phase at every step
+        w.config.contact.sleep = false;
+        w.set_profiling(true);
+        let drift = run(&mut w, 10.0);
+        let p = w.profile().expect("profiling on").per_step();
+        eprintln!("pyramid 10 wide, manifold_reuse {reuse:e}: worst displacement {drift:.5} m, {:.1} of {:.1} pairs reused per step", p.reused, p.pairs);
+        assert!(drift < 0.01, "manifold_reuse {reuse}: a box of the pyramid moved {drift} m");
+        reused.push(p.reused);
+    }
+    assert_eq!(reused[0], 0.0, "manifold_reuse = 0 reused manifolds");
+    assert!(reused[2] > reused[1], "a looser reuse kept no more manifolds: {reused:?}");
+}
+
+fn pyramid_ten_wide(model: FrictionModel) -> tumble::World {
     let h = DVec3::splat(0.5);
     let mut bodies = vec![material(ground(DQuat::IDENTITY), 0.5, 0.0)];
     for row in 0..10 {
@@ -68,6 +89,11 @@ fn pyramid_ten_wide_stands_for_ten_seconds(model: FrictionModel) {
     }
     let mut w = world(1.0 / 60.0, DVec3::new(0.0, 0.0, -G), bodies);
     w.config.contact.friction_model = model;
+    w
+}
+
+fn pyramid_ten_wide_stands_for_ten_seconds(model: FrictionModel) {
+    let mut w = pyramid_ten_wide(model);
     let drift = run(&mut w, 10.0);
     eprintln!("pyramid 10 wide, friction {model:?}: worst displacement {drift:.5} m over 10 s");
     assert!(drift < 0.01, "a box of the pyramid moved {drift} m");

@@ -413,7 +413,7 @@ impl Colliders {
         let reused = entry.reusable(&pos12, prediction, self.radii[j], reuse_distance);
         if reused {
             entry.reuse(&pos12);
-        } else if !entry.make(&pos12, shape_i.as_ref(), shape_j.as_ref(), prediction) {
+        } else if !entry.make(&pos12, shape_i.as_ref(), shape_j.as_ref(), prediction, reuse_distance) {
             return false;
         }
         let manifold = &entry.manifold;

@@ -4,7 +4,8 @@
 //! A pair's manifold holds its points in the two shapes' own frames (`local_p1` on shape 1,
 //! `local_p2` on shape 2, normal `local_n1` in shape 1's frame), with the relative pose
 //! `pos12 = shape1⁻¹ · shape2` at which it was made. At the next step, if shape 2 has moved
-//! relative to shape 1 by less than [`REUSE_FRACTION`] of the smaller shape's bounding radius, the
+//! relative to shape 1 by less than a fraction of the smaller shape's bounding radius (the scene's
+//! `manifold_reuse`, [`REUSE_FRACTION`] by default), the
 //! points are kept as material points of the two bodies — each placed by its body's current pose —
 //! and only their gaps are computed again, `dist = (pos12 · local_p2 − local_p1) · local_n1`
 //! (parry's `update_separations`); else the manifold is made again from scratch. Jolt (its body-pair
@@ -20,7 +21,8 @@
 //! small perturbation moves them (docs/contact.md). The features (corners, faces) and their ids
 //! stay those of the manifold, so warm starting matches them as before.
 //!
-//! A manifold is made with the prediction distance of the step plus [`REUSE_MARGIN`] (the contacts
+//! A manifold is made with the prediction distance of the step plus [`REUSE_MARGIN`] (or the reuse
+//! distance, when a looser `manifold_reuse` makes it larger; the contacts
 //! beyond the step's prediction are dropped when the contacts are written, so this changes no
 //! contact); it is reused only when the step's prediction plus the motion bound stays within what it
 //! was made with, so that no point that a fresh manifold would give within the prediction — and no
@@ -165,9 +167,18 @@ impl PairManifold {
         self.manifold.update_separations(pos12);
     }
 
-    /// Makes the manifold again at `pos12` with `prediction` (m) plus [`REUSE_MARGIN`].
-    pub(super) fn make(&mut self, pos12: &Pose, shape1: &dyn Shape, shape2: &dyn Shape, prediction: f64) -> bool {
-        let prediction = prediction + REUSE_MARGIN;
+    /// Makes the manifold again at `pos12` with `prediction` (m) plus the larger of [`REUSE_MARGIN`]
+    /// and `reuse_distance` (m), the motion it may be reused for.
+    pub(super) fn make(
+        &mut self,
+        pos12: &Pose,
+        shape1: &dyn Shape,
+        shape2: &dyn Shape,
+        prediction: f64,
+        reuse_distance: f64,
+    ) -> bool {
+        let margin = if reuse_distance.is_finite() { REUSE_MARGIN.max(reuse_distance) } else { REUSE_MARGIN };
+        let prediction = prediction + margin;
         self.manifold.points.clear();
         let found = convex_manifold(pos12, shape1, shape2, prediction, &mut self.manifold).is_ok();
         self.pos12 = *pos12;
@@ -327,7 +338,7 @@ mod tests {
         let touching = Pose::from_translation(DVec3::new(0.0, 0.0, 0.999));
         m.begin_step();
         for pair in [(0, 1), (0, 2), (1, 2)] {
-            assert!(m.entry(pair).make(&touching, box_.as_ref(), box_.as_ref(), 0.01));
+            assert!(m.entry(pair).make(&touching, box_.as_ref(), box_.as_ref(), 0.01, 0.0));
         }
         m.end_step();
         m.begin_step();
@@ -350,7 +361,7 @@ mod tests {
         let at = Pose::from_translation(DVec3::new(0.0, 0.0, 1.0));
         let mut e = PairManifold { pair: (0, 1), manifold: ContactManifold::new(), pos12: at, prediction: -1.0 };
         assert!(!e.reusable(&at, 0.01, 0.9, 1e-4), "never made");
-        assert!(e.make(&at, box_.as_ref(), box_.as_ref(), 0.01));
+        assert!(e.make(&at, box_.as_ref(), box_.as_ref(), 0.01, 0.0));
         let moved = |dz: f64, angle: f64| Pose::from_parts(at.translation + DVec3::Z * dz, quat_exp(DVec3::X * angle));
         assert!(e.reusable(&moved(5e-5, 0.0), 0.01, 0.9, 1e-4));
         assert!(!e.reusable(&moved(2e-4, 0.0), 0.01, 0.9, 1e-4));
@@ -382,14 +393,14 @@ mod tests {
             let (before, after) = (pose(k as f64), pose(k as f64 + 3.7));
             let mut fresh =
                 PairManifold { pair: (2, 3), manifold: ContactManifold::new(), pos12: after, prediction: -1.0 };
-            fresh.make(&after, capsule.as_ref(), box_.as_ref(), 0.05);
+            fresh.make(&after, capsule.as_ref(), box_.as_ref(), 0.05, 0.0);
             let mut m = PairManifolds::default();
             m.begin_step();
-            m.entry((0, 1)).make(&before, box_.as_ref(), capsule.as_ref(), 0.05);
+            m.entry((0, 1)).make(&before, box_.as_ref(), capsule.as_ref(), 0.05, 0.0);
             m.end_step();
             m.begin_step();
             let reused = m.entry((2, 3));
-            reused.make(&after, capsule.as_ref(), box_.as_ref(), 0.05);
+            reused.make(&after, capsule.as_ref(), box_.as_ref(), 0.05, 0.0);
             let (a, b) = (&fresh.manifold, &reused.manifold);
             assert_eq!((a.local_n1, a.local_n2), (b.local_n1, b.local_n2), "pose {k}");
             assert_eq!(a.points.len(), b.points.len(), "pose {k}");

@@ -67,6 +67,13 @@ pub struct ContactSettings {
     /// one disc and one twist per manifold ([`FrictionModel::Manifold`], cheaper and coarser).
     /// Robots' contacts keep friction at every point.
     pub friction_model: FrictionModel,
+    /// A pair's contact manifold is kept from the last step, its points moved with the bodies and
+    /// only their gaps measured again, while the pair has moved relative to itself by less than
+    /// this fraction of the smaller shape's bounding radius since the manifold was made (module
+    /// `collision::pairs`); `0`: every manifold made afresh at every step. Larger is cheaper for
+    /// slowly creeping stacks and moves each contact point by up to this fraction of the shape.
+    /// Default [`crate::collision::REUSE_FRACTION`] (`1e-4`).
+    pub manifold_reuse: f64,
     /// Overlap tolerated without correction (m). Default `0`: the spring below holds the overlap
     /// of a body resting on another at `m g/(m_n ω²)`, a fraction of a millimetre.
     pub slop: f64,
@@ -121,6 +128,7 @@ impl Default for ContactSettings {
             substeps: 6,
             iterations: 1,
             friction_model: FrictionModel::Point,
+            manifold_reuse: crate::collision::REUSE_FRACTION,
             slop: 0.0,
             hertz: 60.0,
             damping_ratio: 10.0,
@@ -354,7 +362,9 @@ impl ContactStage {
             return;
         }
         let budget = settings.pair_budget(bodies.len());
-        self.colliders_mut(bodies).set_pair_budget(usize::try_from(budget).unwrap_or(usize::MAX));
+        let colliders = self.colliders_mut(bodies);
+        colliders.set_pair_budget(usize::try_from(budget).unwrap_or(usize::MAX));
+        colliders.set_reuse_fraction(settings.manifold_reuse);
         self.fall_asleep(bodies, bodies_lent, settings, gravity, dt);
         let mut fresh = std::mem::take(&mut self.fresh);
         let mut profile = self.profile.take();
@@ -904,6 +914,9 @@ pub fn combine_materials(a: crate::body::Material, b: crate::body::Material, set
     ((mu(a) * mu(b)).sqrt(), e(a).max(e(b)))
 }
 
+/// The largest [`ContactSettings::manifold_reuse`]: a tenth of a shape's size.
+pub const MAX_MANIFOLD_REUSE: f64 = 0.1;
+
 /// Checks the settings: `field`, problem, value on failure.
 pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, String)> {
     let unit = |x: f64| x.is_finite() && (0.0..=1.0).contains(&x);
@@ -923,6 +936,12 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
         ),
         ("sleep_speed", nonneg(s.sleep_speed), "must be finite and ≥ 0 (m/s)", s.sleep_speed),
         ("sleep_time", nonneg(s.sleep_time), "must be finite and ≥ 0 (s)", s.sleep_time),
+        (
+            "manifold_reuse",
+            s.manifold_reuse.is_finite() && (0.0..=MAX_MANIFOLD_REUSE).contains(&s.manifold_reuse),
+            "must be in [0, 0.1] (a fraction of the smaller shape's bounding radius)",
+            s.manifold_reuse,
+        ),
     ];
     for (field, ok, problem, value) in checks {
         if !ok {

@@ -215,6 +215,7 @@ fn world_config(
             "sleep_speed" => span(w.sleep_speed.as_ref().and_then(|l| l.span.clone())),
             "sleep_time" => span(w.sleep_time.as_ref().and_then(|l| l.span.clone())),
             "max_pairs" => span(w.max_pairs.as_ref().and_then(|l| l.span.clone())),
+            "manifold_reuse" => span(w.manifold_reuse.as_ref().and_then(|l| l.span.clone())),
             _ => table.span.clone(),
         };
         let field = if e.field == "slop" { "contact_slop" } else { e.field };
@@ -255,6 +256,7 @@ fn contact_settings(src: &Source, w: &WorldDoc, config: &mut WorldConfig) -> Res
         ("max_correction_speed", &w.max_correction_speed, &mut c.max_correction_speed),
         ("sleep_speed", &w.sleep_speed, &mut c.sleep_speed),
         ("sleep_time", &w.sleep_time, &mut c.sleep_time),
+        ("manifold_reuse", &w.manifold_reuse, &mut c.manifold_reuse),
     ];
     for (key, loc, target) in scalars {
         if let Some(l) = loc {

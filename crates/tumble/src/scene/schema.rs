@@ -147,6 +147,8 @@ pub struct WorldDoc {
     pub contact_iterations: Option<Loc<u32>>,
     /// `point` | `manifold`: friction at every contact point, or one disc and twist per manifold.
     pub friction_model: Option<Loc<String>>,
+    /// Fraction of the smaller shape's bounding radius a pair may move while its manifold is kept.
+    pub manifold_reuse: Option<Loc<f64>>,
     /// Substeps of the resting-contact solver per step.
     pub contact_substeps: Option<Loc<u32>>,
     /// m: overlap left uncorrected.
