@@ -647,7 +647,15 @@ impl ContactStage {
                 // the patch takes the friction
                 lambda = [lambda[0], 0.0, 0.0];
             }
-            self.points.push(ContactPoint { point: c.point_world, n: c.normal_world, gap: c.gap, lambda });
+            // the vectors by component: copied whole, they went through a stack copy whose 16-byte
+            // loads straddled its 8-byte stores (a store-forwarding stall per point)
+            let (p, n) = (c.point_world, c.normal_world);
+            self.points.push(ContactPoint {
+                point: DVec3::new(p.x, p.y, p.z),
+                n: DVec3::new(n.x, n.y, n.z),
+                gap: c.gap,
+                lambda,
+            });
             self.manifolds.last_mut().expect("pushed above").points.1 = row + 1;
             self.constrained.push(ci);
         }
