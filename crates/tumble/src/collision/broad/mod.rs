@@ -39,6 +39,11 @@
 //!    more than the pair budget ([`Colliders::set_pair_budget`], `[world] max_pairs`), leaves no
 //!    pair, and says so ([`Colliders::pairs_over_budget`]); the caller ends the run.
 //!
+//! 6. **Kept from step to step** (module `fat`): the pairs of boxes a little larger than the swept
+//!    boxes are kept while every body stays inside its larger box, and the step's pairs are those of
+//!    them whose swept boxes overlap — the same pairs in the same order; a body that left its box
+//!    has its pairs found again against every box, and the grid runs again when many left.
+//!
 //! Cost: `O(n + cells + tests)`, with about `14 · m` box tests per small box for `m` boxes per cell
 //! (about one for a pile of equal balls), against the sort and sweep's `O(n)` boxes overlapping each
 //! box along the sweep axis (150 for the 1,000 balls) that it replaced. It runs on the caller's
@@ -58,6 +63,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::shape::SharedShape;
 
+mod fat;
 #[cfg(test)]
 mod tests;
 
@@ -210,6 +216,8 @@ pub(super) struct Grid {
     /// `firsts[i] .. firsts[i + 1]`: body `i`'s partners `j > i` in `seconds` (`n + 2` entries).
     firsts: Vec<usize>,
     seconds: Vec<usize>,
+    /// The fat boxes and their pairs, kept from step to step (module `fat`).
+    fat: fat::FatBoxes,
 }
 
 impl Colliders {
@@ -299,6 +307,12 @@ impl Colliders {
             })
             .sum();
         let budget = self.pair_budget.saturating_sub(plane_pairs);
+        // the pairs from the kept fat boxes when they can say (module `fat`): the same pairs
+        if plane_pairs <= self.pair_budget && grid.pairs_from_fat(&self.aabbs, n, large_width, budget) {
+            self.emit_pairs(&grid, n, slop);
+            self.grid = grid;
+            return;
+        }
         if !grid.find_pairs(&self.aabbs, large_width, budget) || plane_pairs > self.pair_budget {
             self.over_budget = Some(grid.found.len().saturating_add(plane_pairs));
             grid.found.clear();
