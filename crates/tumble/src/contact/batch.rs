@@ -970,7 +970,15 @@ pub struct LaneSolver {
     /// Keeps the portable `wide::f64x4` lanes even on a CPU with AVX2 (the tests run both).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     portable: bool,
+    /// What the layout was made from, per manifold: its bodies, its number of points and whether
+    /// each body moves; and the body count (a build with the same keeps the colours and batches).
+    key: Vec<LayoutKey>,
+    next_key: Vec<LayoutKey>,
+    key_bodies: usize,
 }
+
+/// A manifold's bodies `a`, `b`, its number of points and whether `a` and `b` move.
+type LayoutKey = (usize, usize, usize, bool, bool);
 
 impl LaneSolver {
     /// Colours the manifolds `groups` (ranges of `constraints`, each of one pair of bodies, in pair
@@ -1110,6 +1118,32 @@ impl LaneSolver {
         {
             self.avx = !self.portable && std::arch::is_x86_feature_detected!("avx2");
         }
+        // the manifolds of the last build (the same pairs, numbers of points and moving bodies, in
+        // the same order): the same colours and batches, kept (a stack at rest keeps its manifolds
+        // step after step), with the slots' points taken again from this build's ranges
+        self.next_key.clear();
+        self.next_key.extend((0..count).map(|g| {
+            let ((a, b), (s, e)) = (pair(g), range(g));
+            (a, b, e - s, moving(a), moving(b))
+        }));
+        if self.key_bodies == body_count && self.next_key == self.key && !self.batch_start.is_empty() {
+            for batch in &self.batches {
+                for (j, index) in self.slot_index[batch.slots.0..batch.slots.1].iter_mut().enumerate() {
+                    for (lane, &g) in index.iter_mut().zip(&batch.manifold) {
+                        *lane = NONE;
+                        if g != NONE {
+                            let (s, e) = range(g);
+                            if s + j < e {
+                                *lane = s + j;
+                            }
+                        }
+                    }
+                }
+            }
+            return;
+        }
+        std::mem::swap(&mut self.key, &mut self.next_key);
+        self.key_bodies = body_count;
         let words = body_count.div_ceil(64);
         self.colour_bodies.clear();
         self.colour_bodies.resize(COLOURS * words, 0);
@@ -1855,6 +1889,55 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A build over the same manifolds as the last one (pairs, numbers of points, moving bodies)
+    /// keeps its colours and batches and takes the slots' points from the new ranges: the same
+    /// layout and slots as a fresh solver's, when the points moved within the list (a point
+    /// inserted at the front) and when a manifold's number of points changed.
+    #[test]
+    fn a_build_over_the_same_manifolds_keeps_the_layout() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let count = 40;
+        let (bodies, moving, _, _) = scene(&mut rng, count, 2, 0);
+        let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
+        let pairs = random_pairs(&mut rng, count, 2, &moving, 3 * count);
+        let sizes: Vec<usize> = pairs.iter().map(|_| 1 + (rng.next() % 6) as usize).collect();
+        let make = |rng: &mut Rng, front: usize, sizes: &[usize]| {
+            let mut points: Vec<ContactPoint> = (0..front)
+                .map(|_| ContactPoint { point: DVec3::ZERO, n: DVec3::Z, gap: 0.0, lambda: [0.0; 3] })
+                .collect();
+            let mut manifolds = Vec::new();
+            for (&(a, b), &size) in pairs.iter().zip(sizes) {
+                let start = points.len();
+                for _ in 0..size {
+                    let point = 0.5 * (positions[a] + positions[b]) + rng.vec(0.5);
+                    points.push(ContactPoint { point, n: rng.unit(), gap: rng.range(-0.02, 0.01), lambda: [0.0; 3] });
+                }
+                let softness = Softness::new(60.0, 10.0, 1.0 / 360.0);
+                let friction_warm = [DVec3::ZERO; 2];
+                manifolds.push(Manifold { a, b, points: (start, points.len()), mu: 0.5, softness, friction_warm });
+            }
+            (manifolds, points)
+        };
+        let mut kept = LaneSolver::default();
+        let mut overflow = Vec::new();
+        let (m, p) = make(&mut rng, 0, &sizes);
+        kept.build_points(&m, &p, &bodies, &positions, |i| moving[i], FrictionModel::Point, &mut overflow);
+        let mut fewer = sizes.clone();
+        fewer[3] = if fewer[3] == 1 { 2 } else { 1 };
+        for (front, sizes) in [(1, &sizes), (3, &fewer), (0, &sizes)] {
+            let (m, p) = make(&mut rng, front, sizes);
+            kept.build_points(&m, &p, &bodies, &positions, |i| moving[i], FrictionModel::Point, &mut overflow);
+            let mut fresh = LaneSolver::default();
+            let mut fresh_overflow = Vec::new();
+            fresh.build_points(&m, &p, &bodies, &positions, |i| moving[i], FrictionModel::Point, &mut fresh_overflow);
+            assert_eq!(kept.order, fresh.order);
+            assert_eq!(kept.slot_index, fresh.slot_index, "front {front}");
+            assert_eq!(kept.overflow, fresh.overflow);
+            assert_eq!(kept.overflow_points, fresh.overflow_points);
+            assert_eq!(format!("{:?}", kept.slots), format!("{:?}", fresh.slots));
         }
     }
 
