@@ -5,8 +5,8 @@
 //! (`Simplified`, the default: one friction row and a twist per manifold; `Coulomb`: friction at
 //! every point). tumble: `contact_substeps`, `contact_iterations` and its friction model (`point`,
 //! the default: friction at every point; `manifold`: one friction disc and a twist per manifold,
-//! an option) and `manifold_reuse` (the default `1e-4`, or [`LOOSE_REUSE`], about the 1 mm that
-//! parry reuses Rapier's manifolds for on these unit boxes). Every setting runs the scene
+//! an option) and `manifold_reuse` (the default `1e-4`, or the [`LOOSER_REUSE`]: `1e-3`, about
+//! the 1 mm that parry reuses Rapier's box manifolds for on these unit boxes, and `1e-2`). Every setting runs the scene
 //! with sleeping off (the work of every step) and gives a point: time per step, against the
 //! settling drift (the largest displacement of a moving body between the start and the end of the
 //! run) and the overlap (the deepest penetration between two shapes at the end, found by parry on
@@ -21,16 +21,17 @@ use rapier3d_f64::prelude::*;
 use std::path::Path;
 use std::time::Instant;
 
-/// tumble's looser `manifold_reuse` swept beside the default: 1e-3 of the smaller shape's bounding
-/// radius, 0.87 mm for the pyramid's unit boxes.
-pub const LOOSE_REUSE: f64 = 1e-3;
+/// tumble's looser `manifold_reuse` swept beside the default (`Setting::Tumble::reuse` 1 and 2):
+/// 1e-3 and 1e-2 of the smaller shape's bounding radius, 0.87 mm and 8.7 mm for the pyramid's unit
+/// boxes.
+pub const LOOSER_REUSE: [f64; 2] = [1e-3, 1e-2];
 
 /// One knob setting of one engine.
 #[derive(Clone, Copy, Debug)]
 pub enum Setting {
     /// tumble: `contact_substeps`, `contact_iterations`, friction per manifold (else at every point),
-    /// `manifold_reuse = LOOSE_REUSE` (else the default).
-    Tumble { substeps: u32, iterations: u32, manifold: bool, loose: bool },
+    /// `reuse`: 0 the default `manifold_reuse`, `k` the `LOOSER_REUSE[k − 1]`.
+    Tumble { substeps: u32, iterations: u32, manifold: bool, reuse: usize },
     /// Rapier: `num_solver_iterations`, `num_internal_pgs_iterations`, Coulomb friction at every
     /// point (else the default `Simplified` model).
     Rapier { iterations: usize, pgs: usize, coulomb: bool },
@@ -46,10 +47,10 @@ impl Setting {
 
     pub fn label(&self) -> String {
         match *self {
-            Setting::Tumble { substeps, iterations, manifold, loose } => format!(
+            Setting::Tumble { substeps, iterations, manifold, reuse } => format!(
                 "substeps {substeps}, iterations {iterations}{}{}",
                 if manifold { ", manifold" } else { "" },
-                if loose { format!(", reuse {LOOSE_REUSE:e}") } else { String::new() }
+                if reuse > 0 { format!(", reuse {:e}", LOOSER_REUSE[reuse - 1]) } else { String::new() }
             ),
             Setting::Rapier { iterations, pgs, coulomb } => {
                 format!("iterations {iterations}, pgs {pgs}{}", if coulomb { ", Coulomb" } else { "" })
@@ -60,8 +61,8 @@ impl Setting {
     fn is_default(&self) -> bool {
         let d = tumble::contact::ContactSettings::default();
         match *self {
-            Setting::Tumble { substeps, iterations, manifold, loose } => {
-                substeps == d.substeps && iterations == d.iterations && !manifold && !loose
+            Setting::Tumble { substeps, iterations, manifold, reuse } => {
+                substeps == d.substeps && iterations == d.iterations && !manifold && reuse == 0
             }
             Setting::Rapier { iterations, pgs, coulomb } => {
                 let r = IntegrationParameters::default();
@@ -76,11 +77,11 @@ impl Setting {
 /// iterations × PGS passes with its default friction, and its iterations with Coulomb friction.
 pub fn settings() -> Vec<Setting> {
     let mut s = Vec::new();
-    for loose in [false, true] {
+    for reuse in 0..=LOOSER_REUSE.len() {
         for manifold in [false, true] {
             for iterations in [1, 2] {
                 for substeps in [1, 2, 3, 4, 6, 8, 12] {
-                    s.push(Setting::Tumble { substeps, iterations, manifold, loose });
+                    s.push(Setting::Tumble { substeps, iterations, manifold, reuse });
                 }
             }
         }
@@ -143,7 +144,7 @@ fn largest_displacement(world: &tumble::World, end: &[Option<Pose>]) -> f64 {
 /// Runs `world` for `steps` steps with `setting`, sleeping off.
 pub fn run(world: &tumble::World, steps: usize, setting: Setting) -> Point {
     match setting {
-        Setting::Tumble { substeps, iterations, manifold, loose } => {
+        Setting::Tumble { substeps, iterations, manifold, reuse } => {
             let mut w = world.clone();
             w.config.contact.sleep = false;
             w.config.contact.substeps = substeps;
@@ -151,8 +152,8 @@ pub fn run(world: &tumble::World, steps: usize, setting: Setting) -> Point {
             if manifold {
                 w.config.contact.friction_model = tumble::contact::FrictionModel::Manifold;
             }
-            if loose {
-                w.config.contact.manifold_reuse = LOOSE_REUSE;
+            if reuse > 0 {
+                w.config.contact.manifold_reuse = LOOSER_REUSE[reuse - 1];
             }
             let t = Instant::now();
             for _ in 0..steps {
@@ -308,8 +309,8 @@ pub fn write_csv(curves: &[Curve], path: &Path) -> std::io::Result<()> {
 }
 
 /// The curves as an SVG, one panel per scene: time per step (log) against drift (log); each
-/// engine's points (tumble's with friction per manifold hollow, with the looser manifold reuse
-/// as squares) and its lower envelope (the least drift reached at each cost).
+/// engine's points (tumble's with friction per manifold hollow, with `manifold_reuse` 1e-3 as
+/// squares and 1e-2 as triangles) and its lower envelope (the least drift reached at each cost).
 pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     use plotters::prelude::*;
     let width = 520 * curves.len() as u32;
@@ -358,20 +359,23 @@ pub fn plot(curves: &[Curve], path: &Path) -> Result<(), Box<dyn std::error::Err
                 .draw_series(LineSeries::new(envelope, colour.stroke_width(2)))?
                 .label(engine)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
-            // tumble's settings with friction per manifold drawn hollow, with the looser reuse as squares
+            // tumble's settings with friction per manifold drawn hollow, the looser reuses as squares
+            // and triangles
             for (s, p) in c.points.iter().filter(|(s, _)| s.engine() == engine) {
-                let (manifold, loose) = match *s {
-                    Setting::Tumble { manifold, loose, .. } => (manifold, loose),
-                    Setting::Rapier { .. } => (false, false),
+                let (manifold, reuse) = match *s {
+                    Setting::Tumble { manifold, reuse, .. } => (manifold, reuse),
+                    Setting::Rapier { .. } => (false, 0),
                 };
                 let style = if manifold { colour.stroke_width(1) } else { colour.filled() };
                 let at = (p.ms_per_step, drift(p));
-                if loose {
-                    let square = EmptyElement::at(at) + Rectangle::new([(-3, -3), (3, 3)], style);
-                    chart.draw_series(std::iter::once(square))?;
-                } else {
-                    chart.draw_series(std::iter::once(Circle::new(at, 3, style)))?;
-                }
+                match reuse {
+                    0 => chart.draw_series(std::iter::once(Circle::new(at, 3, style)))?,
+                    1 => {
+                        let square = EmptyElement::at(at) + Rectangle::new([(-3, -3), (3, 3)], style);
+                        chart.draw_series(std::iter::once(square))?
+                    }
+                    _ => chart.draw_series(std::iter::once(TriangleMarker::new(at, 4, style)))?,
+                };
             }
         }
         chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
