@@ -253,7 +253,9 @@ impl Colliders {
 
     /// Sets the fraction of the smaller shape's bounding radius below which a pair's relative motion
     /// lets its manifold be reused ([`REUSE_FRACTION`] by default; 0: every manifold is made at every
-    /// step, as before the manifolds were kept).
+    /// step, as before the manifolds were kept). A world's contact stage sets it at every step from
+    /// [`ContactSettings::manifold_reuse`](crate::contact::ContactSettings::manifold_reuse): set
+    /// that on a world.
     pub fn set_reuse_fraction(&mut self, fraction: f64) {
         self.reuse_fraction = fraction.max(0.0);
     }

@@ -18,8 +18,8 @@
 //! for 1, 3, 7, … 63 steps before fat boxes are tried again ([`MAX_BACKOFF`]).
 //!
 //! Cost of a step in which no body left: one containment test per body and one box test per kept
-//! pair, against the grid's cells, counting sorts and neighbour runs (the 1,000 balls at rest: about
-//! 6 box tests per ball).
+//! pair, against the grid's cells, counting sorts and neighbour runs (the 1,000 balls awake: the
+//! broad phase 87–89 → 50–58 µs per step, most of what is left making the swept boxes).
 //!
 //! Reference: E. Catto, Box2D v3 (`b2_aabbMargin`, the enlarged boxes of its dynamic tree).
 
@@ -75,8 +75,8 @@ fn contains(outer: &Aabb, inner: &Aabb) -> bool {
 }
 
 /// The fat box of the swept box `aabb` of a body that moves (`rests`: fixed or asleep, the box
-/// itself: it does not move, and a wall's box grown by a tenth of its length would meet every body
-/// near it); `None` for a box with a bound that is not finite (the grid tests those).
+/// itself: it does not move, and a wall's box grown by a fraction of its length would meet every
+/// body near it); `None` for a box with a bound that is not finite (the grid tests those).
 fn fattened(aabb: &Aabb, rests: bool) -> Option<Aabb> {
     let finite = aabb.mins.is_finite() && aabb.maxs.is_finite();
     let margin = if rests { 0.0 } else { FAT_FRACTION * (aabb.maxs - aabb.mins).max_element() };
