@@ -185,7 +185,7 @@ fn pairs_over_steps(specs: &[Spec], excluded: &[(usize, usize)], steps: &[(u8, u
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         let n = bodies.len();
-        let mut shift = |b: &mut RigidBody, reach: f64, u: &mut dyn FnMut() -> f64| {
+        let shift = |b: &mut RigidBody, reach: f64, u: &mut dyn FnMut() -> f64| {
             b.state.position += reach * DVec3::new(2.0 * u() - 1.0, 2.0 * u() - 1.0, 2.0 * u() - 1.0);
         };
         let awake = |i: usize, bodies: &[RigidBody], asleep: &[bool]| !bodies[i].fixed && !asleep[i];
