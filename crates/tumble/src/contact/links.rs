@@ -769,14 +769,7 @@ impl LinkStage {
                     side_displacement(robots, bodies, row.b, row.r_b)
                         - side_displacement(robots, bodies, row.a, row.r_a),
                 );
-            let (bias, mass_scale, impulse_scale) = if s > 0.0 {
-                (s * sweep.inv_h, 1.0, 0.0)
-            } else if sweep.pass == Pass::Solve {
-                let k = row.softness;
-                ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
-            } else {
-                (0.0, 1.0, 0.0)
-            };
+            let (bias, mass_scale, impulse_scale) = sweep.normal_terms(s, row.softness);
             let lambda = row.lambda;
             let new = (lambda[0] - row.normal_mass * mass_scale * (un + bias) - impulse_scale * lambda[0]).max(0.0);
             let dn = new - lambda[0];

@@ -534,6 +534,23 @@ pub struct Sweep {
     pub reverse: bool,
 }
 
+impl Sweep {
+    /// A normal row's bias speed `b` (m/s) and soft scales `(s_m, s_i)` at the separation `s` (m):
+    /// apart, the speculative `s/h` with no softness; overlapping in the biased pass, the spring's
+    /// push, its `bias_rate` times the overlap beyond the slop, at most `max_push`; relaxing, none.
+    #[inline]
+    pub fn normal_terms(&self, s: f64, softness: Softness) -> (f64, f64, f64) {
+        if s > 0.0 {
+            (s * self.inv_h, 1.0, 0.0)
+        } else if self.pass == Pass::Solve {
+            let k = softness;
+            ((k.bias_rate * (s + self.slop).min(0.0)).max(-self.max_push), k.mass_scale, k.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        }
+    }
+}
+
 /// What a pass over the constraints does at points in touch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Pass {
@@ -662,15 +679,7 @@ impl Constraint {
     /// relaxing as the separation and the pass say.
     #[inline]
     fn normal_row(&self, ma: &Motion, mb: &Motion, sweep: &Sweep, un: f64) -> f64 {
-        let s = self.separation(ma, mb);
-        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
-            (s * sweep.inv_h, 1.0, 0.0)
-        } else if sweep.pass == Pass::Solve {
-            let k = self.softness;
-            ((k.bias_rate * (s + sweep.slop).min(0.0)).max(-sweep.max_push), k.mass_scale, k.impulse_scale)
-        } else {
-            (0.0, 1.0, 0.0)
-        };
+        let (bias, mass_scale, impulse_scale) = sweep.normal_terms(self.separation(ma, mb), self.softness);
         // λ_n ← max(0, λ_n − m_n s_m (u_n + b) − s_i λ_n), the terms that do not wait for u_n first
         let mass = self.normal_mass * mass_scale;
         let rest = self.lambda[0] - mass * bias - impulse_scale * self.lambda[0];
