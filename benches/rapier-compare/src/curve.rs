@@ -205,8 +205,21 @@ pub struct Curve {
 
 /// Sweeps every setting on each scene, `reps` interleaved repetitions (each repetition runs every
 /// setting once, in turn, so that the machine's drift in speed reaches all settings alike).
-pub fn sweep(scenes: &[String], steps: usize, reps: usize) -> Vec<Curve> {
-    let settings = settings();
+///
+/// `cheap`: only the cheap end, the settings of one or two substeps (tumble) and of one or two
+/// solver iterations (Rapier), a quick check of where the curves are closest; a Rapier setting
+/// there is matched only by these tumble settings, which are the cheapest.
+pub fn sweep(scenes: &[String], steps: usize, reps: usize, cheap: bool) -> Vec<Curve> {
+    let settings: Vec<Setting> = settings()
+        .into_iter()
+        .filter(|s| {
+            !cheap
+                || match *s {
+                    Setting::Tumble { substeps, .. } => substeps <= 2,
+                    Setting::Rapier { iterations, .. } => iterations <= 2,
+                }
+        })
+        .collect();
     let mut curves = Vec::new();
     for path in scenes {
         let world = super::load_world(path);

@@ -24,7 +24,8 @@
 //! `mass` with a shape), friction and restitution (equal on every body in these scenes, so the two
 //! engines' combine rules agree), `dt` and gravity.
 //!
-//! `--curve` sweeps both engines' accuracy knobs (`curve`); `--sleep-onset` measures how soon each
+//! `--curve` sweeps both engines' accuracy knobs (`curve`; `--curve --cheap`: only the settings of
+//! one or two substeps or solver iterations, a quick check of the cheap end); `--sleep-onset` measures how soon each
 //! engine puts the settled scenes to sleep and what waking costs (`onset`).
 
 mod curve;
@@ -268,11 +269,12 @@ fn main() {
         };
         let plot = take_path("--plot");
         let csv = take_path("--csv");
+        let cheap = args.iter().position(|a| a == "--cheap").map(|at| args.remove(at)).is_some();
         let scenes = if args.is_empty() { curve::default_scenes(&root) } else { args };
         println!(
             "{steps} steps each, both engines single-threaded, sleeping off, median of {reps} interleaved repetitions"
         );
-        let curves = curve::sweep(&scenes, steps, reps);
+        let curves = curve::sweep(&scenes, steps, reps, cheap);
         let unmatched = curve::report(&curves);
         println!();
         println!("Rapier settings with no tumble setting at most as slow and with no more drift: {unmatched}");
