@@ -245,12 +245,18 @@ impl<L: SolveLanes> Slot<L> {
     }
 
     /// The normal row's new accumulated impulse at the normal velocity `un`, as
-    /// [`Constraint`]'s: the separation at this substep (measured by a relaxing sweep), then the
-    /// open / biased / relaxing row.
+    /// [`Constraint`]'s: the separation at this substep (measured by the first relaxing sweep
+    /// after the bodies moved, `MEASURE`), then the open / biased / relaxing row.
     #[inline(always)]
-    fn normal_row<const RELAX: bool>(&mut self, ma: &Motion4<L>, mb: &Motion4<L>, sweep: &Sweep, un: L) -> L {
+    fn normal_row<const RELAX: bool, const MEASURE: bool>(
+        &mut self,
+        ma: &Motion4<L>,
+        mb: &Motion4<L>,
+        sweep: &Sweep,
+        un: L,
+    ) -> L {
         let zero = L::splat(0.0);
-        if RELAX {
+        if RELAX && MEASURE {
             self.separation = self.measure(ma, mb);
         }
         let s = self.separation;
@@ -286,16 +292,17 @@ impl<L: SolveLanes> Slot<L> {
 
     /// [`Constraint::solve`] in four lanes, or with `NORMAL_ONLY` [`Constraint::solve_normal`];
     /// the lanes in which an impulse is held (or was let go). `RELAX` is `sweep.pass ==
-    /// Pass::Relax`: the relaxing sweep measures the separation (the bodies moved since the last
-    /// one), the biased sweep reads it (see [`Slot::separation`]).
+    /// Pass::Relax`: the relaxing sweep measures the separation when `MEASURE` (`sweep.moved`: the
+    /// bodies moved since the last one), the biased sweep reads it (see [`Slot::separation`]).
     #[inline(always)]
-    fn solve<const RELAX: bool, const NORMAL_ONLY: bool>(
+    fn solve<const RELAX: bool, const MEASURE: bool, const NORMAL_ONLY: bool>(
         &mut self,
         ma: &mut Motion4<L>,
         mb: &mut Motion4<L>,
         sweep: &Sweep,
     ) -> L {
         debug_assert_eq!(RELAX, sweep.pass == Pass::Relax);
+        debug_assert!(!RELAX || MEASURE == sweep.moved);
         let zero = L::splat(0.0);
         let u = mb.v.add(mb.w.cross(self.r_b)).sub(ma.v.add(ma.w.cross(self.r_a)));
         let un = u.dot(self.n);
@@ -303,7 +310,7 @@ impl<L: SolveLanes> Slot<L> {
         let let_go = self.speculative & un.neg().gt(L::splat(sweep.impact_speed));
         let held = self.holds();
         let l0 = self.lambda[0];
-        let new = self.normal_row::<RELAX>(ma, mb, sweep, un);
+        let new = self.normal_row::<RELAX, MEASURE>(ma, mb, sweep, un);
         let dn = new - l0;
         if NORMAL_ONLY {
             // (λ_t1 = λ_t2 = 0 throughout)
@@ -545,12 +552,13 @@ fn warm_start_in<L: SolveLanes, const PATCH: bool>(
     }
 }
 
-/// One sweep over `batches` in lanes `L`; `RELAX` the pass (a biased sweep gathers only the bodies'
-/// velocities: the unused loads of their motion are dropped when compiling); with `PATCH`
+/// One sweep over `batches` in lanes `L`; `RELAX` the pass and `MEASURE` whether a relaxing sweep
+/// measures the separations (a biased sweep, and a relaxing one that keeps them, gather only the
+/// bodies' velocities: the unused loads of their motion are dropped when compiling); with `PATCH`
 /// ([`FrictionModel::Manifold`]) the points' normal rows, summed in the order solved, then each
 /// batch's patch (`patches` aligned with `batches`), as [`solve_patch_pair`].
 #[inline(always)]
-fn sweep_in<L: SolveLanes, const RELAX: bool, const PATCH: bool>(
+fn sweep_in<L: SolveLanes, const RELAX: bool, const MEASURE: bool, const PATCH: bool>(
     batches: &[Batch],
     slots: &mut [Slot<L>],
     patches: &mut [PatchSlot<L>],
@@ -566,14 +574,14 @@ fn sweep_in<L: SolveLanes, const RELAX: bool, const PATCH: bool>(
         let points = &mut slots[batch.slots.0..batch.slots.1];
         if sweep.reverse {
             for slot in points.iter_mut().rev() {
-                any = any | slot.solve::<RELAX, PATCH>(&mut ma, &mut mb, sweep);
+                any = any | slot.solve::<RELAX, MEASURE, PATCH>(&mut ma, &mut mb, sweep);
                 if PATCH {
                     normal_sum = normal_sum + slot.lambda[0];
                 }
             }
         } else {
             for slot in points {
-                any = any | slot.solve::<RELAX, PATCH>(&mut ma, &mut mb, sweep);
+                any = any | slot.solve::<RELAX, MEASURE, PATCH>(&mut ma, &mut mb, sweep);
                 if PATCH {
                     normal_sum = normal_sum + slot.lambda[0];
                 }
@@ -884,14 +892,14 @@ mod avx {
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn sweep<const RELAX: bool, const PATCH: bool>(
+    pub(super) fn sweep<const RELAX: bool, const MEASURE: bool, const PATCH: bool>(
         batches: &[Batch],
         slots: &mut [Slot<Avx>],
         patches: &mut [PatchSlot<Avx>],
         bodies: &mut [SolverBody],
         sweep: &Sweep,
     ) {
-        sweep_in::<Avx, RELAX, PATCH>(batches, slots, patches, bodies, sweep);
+        sweep_in::<Avx, RELAX, MEASURE, PATCH>(batches, slots, patches, bodies, sweep);
     }
 }
 
@@ -1353,22 +1361,25 @@ impl LaneSolver {
     }
 
     /// One sweep over a range of batches of one colour (see [`Constraint::solve`]). A relaxing sweep
-    /// also measures the separations that the next biased sweep uses: the bodies must not move
-    /// between a relaxing sweep and the next biased one, nor between [`build`](Self::build) and
-    /// the first biased sweep.
+    /// with `sweep.moved` also measures the separations that the next relaxing and biased sweeps
+    /// use: the bodies must not move between a relaxing sweep and the next biased one, nor between
+    /// [`build`](Self::build) and the first biased sweep, and a relaxing sweep without
+    /// `sweep.moved` must follow one at the same positions.
     pub fn solve_batches(&mut self, batches: Range<usize>, bodies: &mut [SolverBody], sweep: &Sweep) {
-        match (sweep.pass, self.patch) {
-            (Pass::Solve, false) => self.sweep_batches::<false, false>(batches, bodies, sweep),
-            (Pass::Relax, false) => self.sweep_batches::<true, false>(batches, bodies, sweep),
-            (Pass::Solve, true) => self.sweep_batches::<false, true>(batches, bodies, sweep),
-            (Pass::Relax, true) => self.sweep_batches::<true, true>(batches, bodies, sweep),
+        match (sweep.pass, sweep.moved, self.patch) {
+            (Pass::Solve, _, false) => self.sweep_batches::<false, false, false>(batches, bodies, sweep),
+            (Pass::Relax, true, false) => self.sweep_batches::<true, true, false>(batches, bodies, sweep),
+            (Pass::Relax, false, false) => self.sweep_batches::<true, false, false>(batches, bodies, sweep),
+            (Pass::Solve, _, true) => self.sweep_batches::<false, false, true>(batches, bodies, sweep),
+            (Pass::Relax, true, true) => self.sweep_batches::<true, true, true>(batches, bodies, sweep),
+            (Pass::Relax, false, true) => self.sweep_batches::<true, false, true>(batches, bodies, sweep),
         }
     }
 
     /// [`solve_batches`](Self::solve_batches) with the pass and the friction model known when
     /// compiling.
     #[allow(unsafe_code)]
-    fn sweep_batches<const RELAX: bool, const PATCH: bool>(
+    fn sweep_batches<const RELAX: bool, const MEASURE: bool, const PATCH: bool>(
         &mut self,
         range: Range<usize>,
         bodies: &mut [SolverBody],
@@ -1380,10 +1391,16 @@ impl LaneSolver {
         if self.avx {
             // SAFETY: `build` found AVX2 on this CPU
             return unsafe {
-                avx::sweep::<RELAX, PATCH>(batches, avx::slots(&mut self.slots), avx::patches(patches), bodies, sweep)
+                avx::sweep::<RELAX, MEASURE, PATCH>(
+                    batches,
+                    avx::slots(&mut self.slots),
+                    avx::patches(patches),
+                    bodies,
+                    sweep,
+                )
             };
         }
-        sweep_in::<f64x4, RELAX, PATCH>(batches, &mut self.slots, patches, bodies, sweep);
+        sweep_in::<f64x4, RELAX, MEASURE, PATCH>(batches, &mut self.slots, patches, bodies, sweep);
     }
 
     /// Adds each constraint's accumulated impulses to its sum over the substeps: in the lanes for
@@ -1751,7 +1768,8 @@ mod tests {
                     (&lb, &lc),
                     &mut zeros,
                 );
-                for pass in [Pass::Solve, Pass::Relax] {
+                // two relaxing sweeps: the second keeps the separations the first measured
+                for (pass, moved) in [(Pass::Solve, true), (Pass::Relax, true), (Pass::Relax, false)] {
                     let sweep = Sweep {
                         // both directions of the points
                         reverse: (substep + usize::from(pass == Pass::Relax)) % 2 == 1,
@@ -1760,6 +1778,7 @@ mod tests {
                         slop: [0.0, 0.001][seed as usize % 2],
                         max_push: 3.0,
                         impact_speed: 0.5,
+                        moved,
                     };
                     scalar_sweep(&order, &groups, &mut sc, &mut sb, &sweep, &mut seen);
                     lanes.solve(&mut lc, &mut lb, &sweep);
@@ -2014,7 +2033,7 @@ mod tests {
                         warm_start_patch_pair(&constraints[g], &patches[g], &mut sb);
                     }
                     lanes.warm_start(&overflow, &mut lb);
-                    for pass in [Pass::Solve, Pass::Relax] {
+                    for (pass, moved) in [(Pass::Solve, true), (Pass::Relax, true), (Pass::Relax, false)] {
                         let sweep = Sweep {
                             reverse: (substep + usize::from(pass == Pass::Relax)) % 2 == 1,
                             pass,
@@ -2022,6 +2041,7 @@ mod tests {
                             slop: [0.0, 0.001][seed as usize % 2],
                             max_push: 3.0,
                             impact_speed: 0.5,
+                            moved,
                         };
                         for &g in &order {
                             solve_patch_pair(&mut constraints[g], &mut patches[g], &mut sb, &sweep);

@@ -709,11 +709,13 @@ impl ContactStage {
                 links.warm_start_limits();
             }
             let mut sweep = |bodies: &mut [SolverBody], links: &mut links::LinkStage, pass| {
-                for _ in 0..settings.iterations {
+                for iteration in 0..settings.iterations {
                     let reverse = (sweeps_done + 1) / 2 % 2 == 1;
                     sweeps_done += 1;
-                    let sweep =
-                        solver::Sweep { pass, inv_h, slop, max_push, impact_speed: settings.impact_speed, reverse };
+                    // the bodies move between the biased sweeps and the first relaxing one only
+                    let moved = iteration == 0;
+                    let impact_speed = settings.impact_speed;
+                    let sweep = solver::Sweep { pass, inv_h, slop, max_push, impact_speed, reverse, moved };
                     if with_bodies {
                         lanes.solve(constraints, bodies, &sweep);
                     }

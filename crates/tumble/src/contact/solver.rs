@@ -532,6 +532,11 @@ pub struct Sweep {
     /// steps at the default settings). The contact stage alternates the direction, forward, back,
     /// back, forward, … (a symmetric Gauss–Seidel over the step): 1.1 mm.
     pub reverse: bool,
+    /// Relaxing: whether the bodies moved since the last relaxing sweep (the first relaxing sweep
+    /// of a substep). The lanes keep the separations that sweep measured when they did not: the
+    /// sweeps between change velocities only, so a second measure gives the same bits. The scalar
+    /// rows measure at every sweep.
+    pub moved: bool,
 }
 
 impl Sweep {
