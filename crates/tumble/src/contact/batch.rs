@@ -748,8 +748,6 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
     slots: &mut [Slot<L>],
     input: &PointInput,
 ) {
-    let zero = L::splat(0.0);
-    let all = f64::from_bits(u64::MAX);
     let bodies = input.bodies;
     for batch in batches {
         // the bodies and the manifold of each lane: the same for all the batch's slots
@@ -761,80 +759,121 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
         let impulse_scale = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.impulse_scale));
         let (ma, mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
         let range = batch.slots.0..batch.slots.1;
+        let sides = (&inertia_a, &inertia_b, inv_mass, center_a, center_b);
+        let manifold = (mu, bias_rate, mass_scale, impulse_scale);
         for (slot, index) in slots[range.clone()].iter_mut().zip(&slot_index[range]) {
-            let p = |k: usize| if index[k] == NONE { &INERT_POINT } else { &input.points[index[k]] };
-            let valid = lanes_of::<L>(|k| if index[k] == NONE { 0.0 } else { all });
-            let n = V3::<L>::gather(|k| p(k).n);
-            let point = V3::<L>::gather(|k| p(k).point);
-            let gap = lanes_of::<L>(|k| p(k).gap);
-            let (r_a, r_b) = (point.sub(center_a), point.sub(center_b));
-            slot.r_a = keep3(valid, r_a);
-            slot.r_b = keep3(valid, r_b);
-            slot.n = keep3(valid, n);
-            slot.adjusted_gap = keep(valid, gap - n.dot(r_b.sub(r_a)));
-            slot.mu = keep(valid, mu);
-            slot.bias_rate = keep(valid, bias_rate);
-            slot.mass_scale = keep(valid, mass_scale);
-            slot.impulse_scale = keep(valid, impulse_scale);
-            slot.speculative = keep(valid, gap.gt(zero));
-            slot.valid = valid;
-            slot.lambda_sum = [zero; 3];
-            slot.separation = slot.measure(&ma, &mb);
-            if NORMAL_ONLY {
-                // the normal row alone (its patch takes the friction): no tangents, zeros in the
-                // friction's fields
-                let (ang_a, ang_b) = (mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_b, r_b.cross(n)));
-                let knn = n.dot(k_times(n, inv_mass, [ang_a, ang_b], r_a, r_b));
-                slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
-                let none = V3 { x: zero, y: zero, z: zero };
-                slot.ang_a = [keep3(valid, ang_a), none, none];
-                slot.ang_b = [keep3(valid, ang_b), none, none];
-                (slot.t1, slot.t2) = (none, none);
-                slot.tangent_mass = [zero; 4];
-                slot.tangent_per_normal = [zero; 2];
-                slot.tangent_k = [zero; 3];
-                slot.lambda = [keep(valid, lanes_of::<L>(|k| p(k).lambda[0])), zero, zero];
-                continue;
+            // a slot of four points (most) needs no zeros put in empty lanes: the same values,
+            // without the masking
+            if index.contains(&NONE) {
+                load_slot::<L, NORMAL_ONLY, false>(slot, index, sides, manifold, (&ma, &mb), input);
+            } else {
+                load_slot::<L, NORMAL_ONLY, true>(slot, index, sides, manifold, (&ma, &mb), input);
             }
-            let (t1, t2) = tangents(n, lanes_of::<L>(|k| p(k).n.z.signum()));
-            let ang_a = [
-                mat_vec(&inertia_a, r_a.cross(n)),
-                mat_vec(&inertia_a, r_a.cross(t1)),
-                mat_vec(&inertia_a, r_a.cross(t2)),
-            ];
-            let ang_b = [
-                mat_vec(&inertia_b, r_b.cross(n)),
-                mat_vec(&inertia_b, r_b.cross(t1)),
-                mat_vec(&inertia_b, r_b.cross(t2)),
-            ];
-            // K d = (1/m_a + 1/m_b) d + (I_a⁻¹ (r_a × d)) × r_a + (I_b⁻¹ (r_b × d)) × r_b, as
-            // `Constraint::new`
-            let (k_n, k_t1, k_t2) = (
-                k_times(n, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b),
-                k_times(t1, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b),
-                k_times(t2, inv_mass, [ang_a[2], ang_b[2]], r_a, r_b),
-            );
-            let knn = n.dot(k_n);
-            let k11 = t1.dot(k_t1);
-            let k12 = t1.dot(k_t2);
-            let k22 = t2.dot(k_t2);
-            slot.t1 = keep3(valid, t1);
-            slot.t2 = keep3(valid, t2);
-            slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
-            let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
-            let m = tangent_inverse(valid, k11, k12, k22);
-            slot.tangent_mass = m;
-            slot.tangent_per_normal = [keep(valid, m[0] * k1n + m[1] * k2n), keep(valid, m[2] * k1n + m[3] * k2n)];
-            slot.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
-            slot.ang_a = ang_a.map(|v| keep3(valid, v));
-            slot.ang_b = ang_b.map(|v| keep3(valid, v));
-            slot.lambda = [
-                keep(valid, lanes_of::<L>(|k| p(k).lambda[0])),
-                keep(valid, lanes_of::<L>(|k| p(k).lambda[1])),
-                keep(valid, lanes_of::<L>(|k| p(k).lambda[2])),
-            ];
         }
     }
+}
+
+/// `keep(valid, x)`, or `x` when every lane is `FULL` (holds a point).
+#[inline(always)]
+fn kept<L: SolveLanes, const FULL: bool>(valid: L, x: L) -> L {
+    if FULL {
+        x
+    } else {
+        keep(valid, x)
+    }
+}
+
+/// `keep3(valid, v)`, or `v` when every lane is `FULL`.
+#[inline(always)]
+fn kept3<L: SolveLanes, const FULL: bool>(valid: L, v: V3<L>) -> V3<L> {
+    if FULL {
+        v
+    } else {
+        keep3(valid, v)
+    }
+}
+
+/// One slot of [`load_points_in`]: the points `index` with their batch's `sides` (inverse
+/// inertias, `1/m_a + 1/m_b`, centres of mass), `manifold` values (`μ` and the softness's bias
+/// rate, mass and impulse scales) and the bodies' `motion`. `FULL`: no lane is empty.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
+    slot: &mut Slot<L>,
+    index: &[usize; LANES],
+    (inertia_a, inertia_b, inv_mass, center_a, center_b): (&[V3<L>; 3], &[V3<L>; 3], L, V3<L>, V3<L>),
+    (mu, bias_rate, mass_scale, impulse_scale): (L, L, L, L),
+    (ma, mb): (&Motion4<L>, &Motion4<L>),
+    input: &PointInput,
+) {
+    let zero = L::splat(0.0);
+    let all = f64::from_bits(u64::MAX);
+    let p = |k: usize| if index[k] == NONE { &INERT_POINT } else { &input.points[index[k]] };
+    let valid = lanes_of::<L>(|k| if index[k] == NONE { 0.0 } else { all });
+    let n = V3::<L>::gather(|k| p(k).n);
+    let point = V3::<L>::gather(|k| p(k).point);
+    let gap = lanes_of::<L>(|k| p(k).gap);
+    let (r_a, r_b) = (point.sub(center_a), point.sub(center_b));
+    slot.r_a = kept3::<L, FULL>(valid, r_a);
+    slot.r_b = kept3::<L, FULL>(valid, r_b);
+    slot.n = kept3::<L, FULL>(valid, n);
+    slot.adjusted_gap = kept::<L, FULL>(valid, gap - n.dot(r_b.sub(r_a)));
+    slot.mu = kept::<L, FULL>(valid, mu);
+    slot.bias_rate = kept::<L, FULL>(valid, bias_rate);
+    slot.mass_scale = kept::<L, FULL>(valid, mass_scale);
+    slot.impulse_scale = kept::<L, FULL>(valid, impulse_scale);
+    slot.speculative = kept::<L, FULL>(valid, gap.gt(zero));
+    slot.valid = valid;
+    slot.lambda_sum = [zero; 3];
+    slot.separation = slot.measure(ma, mb);
+    if NORMAL_ONLY {
+        // the normal row alone (its patch takes the friction): no tangents, zeros in the
+        // friction's fields
+        let (ang_a, ang_b) = (mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_b, r_b.cross(n)));
+        let knn = n.dot(k_times(n, inv_mass, [ang_a, ang_b], r_a, r_b));
+        slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
+        let none = V3 { x: zero, y: zero, z: zero };
+        slot.ang_a = [kept3::<L, FULL>(valid, ang_a), none, none];
+        slot.ang_b = [kept3::<L, FULL>(valid, ang_b), none, none];
+        (slot.t1, slot.t2) = (none, none);
+        slot.tangent_mass = [zero; 4];
+        slot.tangent_per_normal = [zero; 2];
+        slot.tangent_k = [zero; 3];
+        slot.lambda = [kept::<L, FULL>(valid, lanes_of::<L>(|k| p(k).lambda[0])), zero, zero];
+        return;
+    }
+    let (t1, t2) = tangents(n, lanes_of::<L>(|k| p(k).n.z.signum()));
+    let ang_a =
+        [mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_a, r_a.cross(t1)), mat_vec(&inertia_a, r_a.cross(t2))];
+    let ang_b =
+        [mat_vec(&inertia_b, r_b.cross(n)), mat_vec(&inertia_b, r_b.cross(t1)), mat_vec(&inertia_b, r_b.cross(t2))];
+    // K d = (1/m_a + 1/m_b) d + (I_a⁻¹ (r_a × d)) × r_a + (I_b⁻¹ (r_b × d)) × r_b, as
+    // `Constraint::new`
+    let (k_n, k_t1, k_t2) = (
+        k_times(n, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b),
+        k_times(t1, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b),
+        k_times(t2, inv_mass, [ang_a[2], ang_b[2]], r_a, r_b),
+    );
+    let knn = n.dot(k_n);
+    let k11 = t1.dot(k_t1);
+    let k12 = t1.dot(k_t2);
+    let k22 = t2.dot(k_t2);
+    slot.t1 = kept3::<L, FULL>(valid, t1);
+    slot.t2 = kept3::<L, FULL>(valid, t2);
+    slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
+    let (k1n, k2n) = (t1.dot(k_n), t2.dot(k_n));
+    let m = tangent_inverse(valid, k11, k12, k22);
+    slot.tangent_mass = m;
+    slot.tangent_per_normal =
+        [kept::<L, FULL>(valid, m[0] * k1n + m[1] * k2n), kept::<L, FULL>(valid, m[2] * k1n + m[3] * k2n)];
+    slot.tangent_k = [kept::<L, FULL>(valid, k11), kept::<L, FULL>(valid, k12), kept::<L, FULL>(valid, k22)];
+    slot.ang_a = ang_a.map(|v| kept3::<L, FULL>(valid, v));
+    slot.ang_b = ang_b.map(|v| kept3::<L, FULL>(valid, v));
+    slot.lambda = [
+        kept::<L, FULL>(valid, lanes_of::<L>(|k| p(k).lambda[0])),
+        kept::<L, FULL>(valid, lanes_of::<L>(|k| p(k).lambda[1])),
+        kept::<L, FULL>(valid, lanes_of::<L>(|k| p(k).lambda[2])),
+    ];
 }
 
 /// The sweeps compiled for AVX2, in [`Avx`] lanes, on the slots stored as `wide::f64x4`.
@@ -1461,6 +1500,36 @@ impl LaneSolver {
         }
     }
 
+    /// Each point of [`build_points`](Self::build_points) with its impulse over the step, `Σλ_n n +
+    /// Σλ_t1 t1 + Σλ_t2 t2` (N·s: the sums over the substeps along its normal and tangents, computed
+    /// in the lanes for the colours' points, the same operations as for one point), its
+    /// accumulated impulses `λ` and `Σλ_n`: `f(point, impulse, λ, Σλ_n)`; `constraints` and `sums`
+    /// the overflow's, as given to the passes.
+    pub fn for_each_point_impulse(
+        &self,
+        constraints: &[Constraint],
+        sums: &[[f64; 3]],
+        mut f: impl FnMut(usize, DVec3, [f64; 3], f64),
+    ) {
+        for (slot, index) in self.slots.iter().zip(&self.slot_index) {
+            let [s0, s1, s2] = slot.lambda_sum;
+            let impulse = slot.n.scale(s0).add(slot.t1.scale(s1)).add(slot.t2.scale(s2));
+            let (x, y, z) = (impulse.x.to_array(), impulse.y.to_array(), impulse.z.to_array());
+            let l = slot.lambda.map(|x| x.to_array());
+            let normal_sum = s0.to_array();
+            for (k, &i) in index.iter().enumerate() {
+                if i != NONE {
+                    f(i, DVec3::new(x[k], y[k], z[k]), [l[0][k], l[1][k], l[2][k]], normal_sum[k]);
+                }
+            }
+        }
+        for (&(s, e), &first) in self.overflow.iter().zip(&self.overflow_points) {
+            for (j, (k, sum)) in constraints[s..e].iter().zip(&sums[s..e]).enumerate() {
+                f(first + j, sum[0] * k.n + sum[1] * k.t1 + sum[2] * k.t2, k.lambda, sum[0]);
+            }
+        }
+    }
+
     /// Each manifold's [`Patch`] after the solve ([`FrictionModel::Manifold`]): `f(manifold, n, t1,
     /// t2, λ, Σλ)` with the patch's normal and tangents, its accumulated impulses `[λ_t1, λ_t2,
     /// λ_τ]` and their sum over the substeps (indices of the manifolds given to
@@ -1716,9 +1785,10 @@ mod tests {
         }
     }
 
-    /// Random bodies and manifolds, three substeps of warm start, biased sweep, motion and relaxing
-    /// sweep: the lanes give the scalar solver's velocities and impulses bit for bit (up to the sign of
-    /// zeros, counted and printed), in the colour
+    /// Random bodies and manifolds, three substeps of warm start, biased sweep, motion and two
+    /// relaxing sweeps: the lanes give the scalar solver's velocities and impulses bit for bit (up to
+    /// the sign of zeros, counted and printed), and each point's impulse over the substeps the bits
+    /// of the formula for one point, in the colour
     /// order, with every branch of the scalar solve taken many times and some manifolds in the
     /// overflow (a hub body in more pairs than there are colours).
     #[test]
@@ -1739,6 +1809,7 @@ mod tests {
         let mut singles = 0;
         let mut zeros = 0;
         let mut values = 0;
+        let mut impulses_compared = 0;
         for seed in 1..=40u64 {
             let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0xd1b5_4a32_d192_ed03));
             let count = 8 + (seed as usize % 4) * 8;
@@ -1753,6 +1824,7 @@ mod tests {
             let order = lanes.order().to_vec();
             let (mut sb, mut sc) = (bodies.clone(), constraints.clone());
             let (mut lb, mut lc) = (bodies, constraints);
+            let mut sums = vec![[0.0; 3]; lc.len()];
             let h = 1.0 / 360.0;
             for substep in 0..3 {
                 for i in (0..sb.len()).filter(|&i| moving[i]) {
@@ -1798,8 +1870,29 @@ mod tests {
                         }
                     }
                 }
+                // the impulses over the substeps so far, in the lanes: the bits of the formula
+                // for one point
+                lanes.accumulate(&lc, &mut sums);
+                let mut expected = vec![None; lc.len()];
+                lanes.for_each_point(&lc, &sums, |i, t1, t2, lambda, sum| {
+                    expected[i] = Some((sum[0] * lc[i].n + sum[1] * t1 + sum[2] * t2, lambda, sum[0]));
+                });
+                let mut reached = 0;
+                lanes.for_each_point_impulse(&lc, &sums, |i, impulse, lambda, normal_sum| {
+                    let (p, l, s) = expected[i].expect("a point of the build");
+                    let same_bits = |a: f64, b: f64| a.to_bits() == b.to_bits();
+                    let ok = [(impulse.x, p.x), (impulse.y, p.y), (impulse.z, p.z), (normal_sum, s)]
+                        .into_iter()
+                        .chain(lambda.into_iter().zip(l))
+                        .all(|(a, b)| same_bits(a, b));
+                    assert!(ok, "seed {seed} substep {substep}: point {i} impulse {impulse:?} / {p:?}");
+                    reached += 1;
+                });
+                assert_eq!(reached, lc.len());
+                impulses_compared += reached;
             }
         }
+        assert!(impulses_compared > 1000, "impulses compared {impulses_compared}");
         eprintln!("branches {seen:?}, manifolds in the overflow {overflowed}, colours of one manifold {singles}, values compared {values}, zeros of opposite sign {zeros}");
         for (name, n) in [
             ("let go", seen.let_go),

@@ -747,12 +747,12 @@ impl ContactStage {
         let normal_sums = &mut self.normal_sums;
         normal_sums.clear();
         normal_sums.resize(if per_manifold { points.len() } else { 0 }, 0.0);
-        lanes.for_each_point(constraints, &self.lambda_sums, |row, t1, t2, lambda, sum| {
+        lanes.for_each_point_impulse(constraints, &self.lambda_sums, |row, impulse, lambda, normal_sum| {
             let ci = constrained[row];
-            impulses[ci] += sum[0] * points[row].n + sum[1] * t1 + sum[2] * t2;
+            impulses[ci] += impulse;
             lambdas[ci] = lambda;
             if per_manifold {
-                normal_sums[row] = sum[0];
+                normal_sums[row] = normal_sum;
             }
         });
         self.previous_patches.clear();
@@ -870,11 +870,12 @@ pub(super) const WARM_MATCH_DISTANCE: f64 = 0.02;
 /// `previous` is sorted by pair and `start` is the first entry not of an earlier pair than `c`'s.
 fn previous_impulse(previous: &[Previous], start: usize, c: &Contact) -> Option<[f64; 3]> {
     let pair = previous[start..].iter().take_while(|p| (p.a, p.b) == (c.a, c.b));
+    // the features first (the common case, with no distance computed), then the nearest point
+    if let Some(p) = pair.clone().find(|p| p.features == c.features) {
+        return Some(p.lambda);
+    }
     let mut best: Option<(f64, [f64; 3])> = None;
     for p in pair {
-        if p.features == c.features {
-            return Some(p.lambda);
-        }
         let d = (p.point_world - c.point_world).length_squared();
         if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
             best = Some((d, p.lambda));
