@@ -96,6 +96,21 @@ struct Motion4<L> {
 }
 
 impl<L: SolveLanes> Motion4<L> {
+    /// Four bodies at rest with no motion since the start of the step ([`SolverBody::FIXED`]'s
+    /// values in every lane).
+    #[inline(always)]
+    fn unmoved() -> Self {
+        let (zero, one) = (L::splat(0.0), L::splat(1.0));
+        let zeros = V3 { x: zero, y: zero, z: zero };
+        Self {
+            inv_mass: zero,
+            v: zeros,
+            w: zeros,
+            dx: zeros,
+            drot: [V3 { x: one, y: zero, z: zero }, V3 { x: zero, y: one, z: zero }, V3 { x: zero, y: zero, z: one }],
+        }
+    }
+
     /// Lane `k` from `bodies[index[k]]`, a fixed body at rest for [`NONE`].
     #[inline(always)]
     fn gather(bodies: &[SolverBody], index: &[usize; LANES]) -> Self {
@@ -601,6 +616,19 @@ pub(super) struct PointInput<'a> {
     points: &'a [ContactPoint],
     bodies: &'a [SolverBody],
     positions: &'a [DVec3],
+    /// Every body has the bits of no motion yet (`Δx = +0`, `ΔR = I`: a build at the start of the
+    /// step): the separations are measured with those constants, the same bits as gathered.
+    unmoved: bool,
+}
+
+impl SolverBody {
+    /// Whether the body's motion since the start of the step has the bits of [`SolverBody::FIXED`]'s
+    /// (`Δx = +0`, `ΔR = I`).
+    fn unmoved(&self) -> bool {
+        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        bits(&self.dx.to_array(), &SolverBody::FIXED.dx.to_array())
+            && bits(&self.drot.to_cols_array(), &SolverBody::FIXED.drot.to_cols_array())
+    }
 }
 
 /// The point of a padding lane: a unit normal, so that its arithmetic stays finite (its results are
@@ -757,7 +785,12 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
         let bias_rate = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.bias_rate));
         let mass_scale = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.mass_scale));
         let impulse_scale = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.impulse_scale));
-        let (ma, mb) = (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b));
+        // (the separations read only the motion: at the start of a step, a constant)
+        let (ma, mb) = if input.unmoved {
+            (Motion4::<L>::unmoved(), Motion4::<L>::unmoved())
+        } else {
+            (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b))
+        };
         let range = batch.slots.0..batch.slots.1;
         let sides = (&inertia_a, &inertia_b, inv_mass, center_a, center_b);
         let manifold = (mu, bias_rate, mass_scale, impulse_scale);
@@ -1123,7 +1156,8 @@ impl LaneSolver {
         if self.slots.len() != count {
             self.slots.resize(count, Slot::default());
         }
-        let input = PointInput { manifolds, points, bodies, positions };
+        let unmoved = bodies.iter().all(SolverBody::unmoved);
+        let input = PointInput { manifolds, points, bodies, positions, unmoved };
         let patches = if self.patch { self.batches.len() } else { 0 };
         if self.patches.len() != patches {
             self.patches.resize(patches, PatchSlot::default());
@@ -1918,7 +1952,16 @@ mod tests {
             for seed in 1..=12u64 {
                 let mut rng = Rng(0x51_7cc1_b727_220a ^ seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
                 let (count, hub) = (30 + (seed as usize % 4) * 8, 1 + seed as usize % 3);
-                let (bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
+                let (mut bodies, moving, _, _) = scene(&mut rng, count, hub, 0);
+                if seed % 2 == 1 {
+                    // no motion yet, as at the start of a step: the lanes measure the separations
+                    // with constants (`PointInput::unmoved`), the scalar build with the gathered
+                    // motion
+                    for b in &mut bodies {
+                        (b.dx, b.dq, b.drot) = (SolverBody::FIXED.dx, SolverBody::FIXED.dq, SolverBody::FIXED.drot);
+                    }
+                    assert!(bodies.iter().all(SolverBody::unmoved));
+                }
                 let positions: Vec<DVec3> = (0..count).map(|_| rng.vec(2.0)).collect();
                 let pairs = random_pairs(&mut rng, count, hub, &moving, 3 * count);
                 let (mut manifolds, mut points, mut constraints, mut groups) = (vec![], vec![], vec![], vec![]);
