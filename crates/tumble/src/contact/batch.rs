@@ -621,16 +621,6 @@ pub(super) struct PointInput<'a> {
     unmoved: bool,
 }
 
-impl SolverBody {
-    /// Whether the body's motion since the start of the step has the bits of [`SolverBody::FIXED`]'s
-    /// (`Δx = +0`, `ΔR = I`).
-    fn unmoved(&self) -> bool {
-        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-        bits(&self.dx.to_array(), &SolverBody::FIXED.dx.to_array())
-            && bits(&self.drot.to_cols_array(), &SolverBody::FIXED.drot.to_cols_array())
-    }
-}
-
 /// The point of a padding lane: a unit normal, so that its arithmetic stays finite (its results are
 /// replaced by zeros).
 const INERT_POINT: ContactPoint = ContactPoint { point: DVec3::ZERO, n: DVec3::Z, gap: 0.0, lambda: [0.0; 3] };
@@ -779,7 +769,7 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
     let bodies = input.bodies;
     for batch in batches {
         // the bodies and the manifold of each lane: the same for all the batch's slots
-        let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = Sides::of(batch, input);
+        let sides = Sides::of(batch, input);
         let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
         let mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
         let bias_rate = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.bias_rate));
@@ -792,15 +782,14 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
             (Motion4::<L>::gather(bodies, &batch.a), Motion4::<L>::gather(bodies, &batch.b))
         };
         let range = batch.slots.0..batch.slots.1;
-        let sides = (&inertia_a, &inertia_b, inv_mass, center_a, center_b);
         let manifold = (mu, bias_rate, mass_scale, impulse_scale);
         for (slot, index) in slots[range.clone()].iter_mut().zip(&slot_index[range]) {
             // a slot of four points (most) needs no zeros put in empty lanes: the same values,
             // without the masking
             if index.contains(&NONE) {
-                load_slot::<L, NORMAL_ONLY, false>(slot, index, sides, manifold, (&ma, &mb), input);
+                load_slot::<L, NORMAL_ONLY, false>(slot, index, &sides, manifold, (&ma, &mb), input);
             } else {
-                load_slot::<L, NORMAL_ONLY, true>(slot, index, sides, manifold, (&ma, &mb), input);
+                load_slot::<L, NORMAL_ONLY, true>(slot, index, &sides, manifold, (&ma, &mb), input);
             }
         }
     }
@@ -826,19 +815,19 @@ fn kept3<L: SolveLanes, const FULL: bool>(valid: L, v: V3<L>) -> V3<L> {
     }
 }
 
-/// One slot of [`load_points_in`]: the points `index` with their batch's `sides` (inverse
-/// inertias, `1/m_a + 1/m_b`, centres of mass), `manifold` values (`μ` and the softness's bias
+/// One slot of [`load_points_in`]: the points `index` with their batch's [`Sides`], `manifold` values (`μ` and the softness's bias
 /// rate, mass and impulse scales) and the bodies' `motion`. `FULL`: no lane is empty.
 #[inline(always)]
-#[allow(clippy::type_complexity)]
 fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
     slot: &mut Slot<L>,
     index: &[usize; LANES],
-    (inertia_a, inertia_b, inv_mass, center_a, center_b): (&[V3<L>; 3], &[V3<L>; 3], L, V3<L>, V3<L>),
+    sides: &Sides<L>,
     (mu, bias_rate, mass_scale, impulse_scale): (L, L, L, L),
     (ma, mb): (&Motion4<L>, &Motion4<L>),
     input: &PointInput,
 ) {
+    let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = sides;
+    let (inv_mass, center_a, center_b) = (*inv_mass, *center_a, *center_b);
     let zero = L::splat(0.0);
     let all = f64::from_bits(u64::MAX);
     let p = |k: usize| if index[k] == NONE { &INERT_POINT } else { &input.points[index[k]] };

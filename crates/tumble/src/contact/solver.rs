@@ -381,6 +381,14 @@ impl SolverBody {
         touched: false,
     };
 
+    /// Whether the body's motion since the start of the step has the bits of [`SolverBody::FIXED`]'s
+    /// (`Δx = +0`, `ΔR = I`): no substep has moved it yet.
+    pub(super) fn unmoved(&self) -> bool {
+        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        bits(&self.dx.to_array(), &Self::FIXED.dx.to_array())
+            && bits(&self.drot.to_cols_array(), &Self::FIXED.drot.to_cols_array())
+    }
+
     /// Semi-implicit Euler over the substep `h`: the velocity first (external forces), ...
     #[inline]
     pub fn integrate_velocity(&mut self, h: f64) {
