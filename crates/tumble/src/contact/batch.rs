@@ -851,7 +851,7 @@ fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
     if NORMAL_ONLY {
         // the normal row alone (its patch takes the friction): no tangents, zeros in the
         // friction's fields
-        let (ang_a, ang_b) = (mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_b, r_b.cross(n)));
+        let (ang_a, ang_b) = (mat_vec(inertia_a, r_a.cross(n)), mat_vec(inertia_b, r_b.cross(n)));
         let knn = n.dot(k_times(n, inv_mass, [ang_a, ang_b], r_a, r_b));
         slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
         let none = V3 { x: zero, y: zero, z: zero };
@@ -866,9 +866,9 @@ fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
     }
     let (t1, t2) = tangents(n, lanes_of::<L>(|k| p(k).n.z.signum()));
     let ang_a =
-        [mat_vec(&inertia_a, r_a.cross(n)), mat_vec(&inertia_a, r_a.cross(t1)), mat_vec(&inertia_a, r_a.cross(t2))];
+        [mat_vec(inertia_a, r_a.cross(n)), mat_vec(inertia_a, r_a.cross(t1)), mat_vec(inertia_a, r_a.cross(t2))];
     let ang_b =
-        [mat_vec(&inertia_b, r_b.cross(n)), mat_vec(&inertia_b, r_b.cross(t1)), mat_vec(&inertia_b, r_b.cross(t2))];
+        [mat_vec(inertia_b, r_b.cross(n)), mat_vec(inertia_b, r_b.cross(t1)), mat_vec(inertia_b, r_b.cross(t2))];
     // K d = (1/m_a + 1/m_b) d + (I_a⁻¹ (r_a × d)) × r_a + (I_b⁻¹ (r_b × d)) × r_b, as
     // `Constraint::new`
     let (k_n, k_t1, k_t2) = (
