@@ -44,8 +44,8 @@
 //! (fixed bodies are read, never written).
 
 use super::solver::{
-    patch_frame, solve_pair, solve_patch_pair, warm_start_pair, warm_start_patch_pair, Constraint, ContactPoint,
-    FrictionModel, Manifold, Pass, Patch, SolverBody, Sweep,
+    patch_centre, patch_frame, solve_pair, solve_patch_pair, warm_start_pair, warm_start_patch_pair, Constraint,
+    ContactPoint, FrictionModel, Manifold, Pass, Patch, SolverBody, Sweep,
 };
 use crate::integrate::lanes::{SolveLanes, V3};
 use crate::math::DVec3;
@@ -706,51 +706,63 @@ fn tangents<L: SolveLanes>(n: V3<L>, sign: L) -> (V3<L>, V3<L>) {
     (t1, n.cross(t1))
 }
 
-/// The patches of `batches` ([`FrictionModel::Manifold`]) computed in lanes `L`: [`Patch::new`]
-/// for four manifolds at once, operation for operation (the centre, normal and twist arm of each
-/// by the scalar [`patch_frame`]), zeros in the lanes without a manifold.
+/// The patch of `batch` ([`FrictionModel::Manifold`]) computed in lanes `L` with the batch's
+/// `sides`: [`Patch::new`] for four manifolds at once, operation for operation (the centre, normal
+/// and twist arm of each by the scalar [`patch_frame`]), zeros in the lanes without a manifold; each
+/// manifold's centre into `centres` (by manifold), for the sharing of the patch's impulse among
+/// its points.
 #[inline(always)]
-fn load_patches_in<L: SolveLanes>(batches: &[Batch], patches: &mut [PatchSlot<L>], input: &PointInput) {
+fn load_patch<L: SolveLanes>(
+    batch: &Batch,
+    patch: &mut PatchSlot<L>,
+    sides: &Sides<L>,
+    input: &PointInput,
+    centres: &mut [DVec3],
+) {
     let zero = L::splat(0.0);
     let all = f64::from_bits(u64::MAX);
-    for (batch, patch) in batches.iter().zip(patches) {
-        let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = Sides::of(batch, input);
-        let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
-        let frame = [0, 1, 2, 3].map(|k| {
-            manifold(k).map_or((DVec3::ZERO, DVec3::Z, 0.0), |m| patch_frame(&input.points[m.points.0..m.points.1]))
-        });
-        let warm = [0, 1, 2, 3].map(|k| manifold(k).map_or([DVec3::ZERO; 2], |m| m.friction_warm));
-        let valid = lanes_of::<L>(|k| if manifold(k).is_some() { all } else { 0.0 });
-        let c = V3::<L>::gather(|k| frame[k].0);
-        let n = V3::<L>::gather(|k| frame[k].1);
-        let (r_a, r_b) = (c.sub(center_a), c.sub(center_b));
-        let (t1, t2) = tangents(n, lanes_of::<L>(|k| frame[k].1.z.signum()));
-        let ang_a = [mat_vec(&inertia_a, r_a.cross(t1)), mat_vec(&inertia_a, r_a.cross(t2)), mat_vec(&inertia_a, n)];
-        let ang_b = [mat_vec(&inertia_b, r_b.cross(t1)), mat_vec(&inertia_b, r_b.cross(t2)), mat_vec(&inertia_b, n)];
-        let k_t1 = k_times(t1, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b);
-        let k_t2 = k_times(t2, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b);
-        let k11 = t1.dot(k_t1);
-        let k12 = t1.dot(k_t2);
-        let k22 = t2.dot(k_t2);
-        let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
-        patch.r_a = keep3(valid, r_a);
-        patch.r_b = keep3(valid, r_b);
-        patch.n = keep3(valid, n);
-        patch.t1 = keep3(valid, t1);
-        patch.t2 = keep3(valid, t2);
-        patch.tangent_mass = tangent_inverse(valid, k11, k12, k22);
-        patch.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
-        patch.ang_a = ang_a.map(|v| keep3(valid, v));
-        patch.ang_b = ang_b.map(|v| keep3(valid, v));
-        patch.twist_mass = keep(valid & kww.gt(zero), L::splat(1.0) / kww);
-        patch.radius = lanes_of::<L>(|k| frame[k].2);
-        patch.mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
-        patch.valid = valid;
-        let force = V3::<L>::gather(|k| warm[k][0]);
-        let twist = V3::<L>::gather(|k| warm[k][1]);
-        patch.lambda = [keep(valid, force.dot(t1)), keep(valid, force.dot(t2)), keep(valid, twist.dot(n))];
-        patch.lambda_sum = [zero; 3];
+    let Sides { inertia_a, inertia_b, inv_mass, center_a, center_b } = sides;
+    let (inv_mass, center_a, center_b) = (*inv_mass, *center_a, *center_b);
+    let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
+    let frame = [0, 1, 2, 3].map(|k| {
+        manifold(k).map_or((DVec3::ZERO, DVec3::Z, 0.0), |m| patch_frame(&input.points[m.points.0..m.points.1]))
+    });
+    for (k, &g) in batch.manifold.iter().enumerate() {
+        if g != NONE {
+            centres[g] = frame[k].0;
+        }
     }
+    let warm = [0, 1, 2, 3].map(|k| manifold(k).map_or([DVec3::ZERO; 2], |m| m.friction_warm));
+    let valid = lanes_of::<L>(|k| if manifold(k).is_some() { all } else { 0.0 });
+    let c = V3::<L>::gather(|k| frame[k].0);
+    let n = V3::<L>::gather(|k| frame[k].1);
+    let (r_a, r_b) = (c.sub(center_a), c.sub(center_b));
+    let (t1, t2) = tangents(n, lanes_of::<L>(|k| frame[k].1.z.signum()));
+    let ang_a = [mat_vec(inertia_a, r_a.cross(t1)), mat_vec(inertia_a, r_a.cross(t2)), mat_vec(inertia_a, n)];
+    let ang_b = [mat_vec(inertia_b, r_b.cross(t1)), mat_vec(inertia_b, r_b.cross(t2)), mat_vec(inertia_b, n)];
+    let k_t1 = k_times(t1, inv_mass, [ang_a[0], ang_b[0]], r_a, r_b);
+    let k_t2 = k_times(t2, inv_mass, [ang_a[1], ang_b[1]], r_a, r_b);
+    let k11 = t1.dot(k_t1);
+    let k12 = t1.dot(k_t2);
+    let k22 = t2.dot(k_t2);
+    let kww = n.dot(ang_a[2]) + n.dot(ang_b[2]);
+    patch.r_a = keep3(valid, r_a);
+    patch.r_b = keep3(valid, r_b);
+    patch.n = keep3(valid, n);
+    patch.t1 = keep3(valid, t1);
+    patch.t2 = keep3(valid, t2);
+    patch.tangent_mass = tangent_inverse(valid, k11, k12, k22);
+    patch.tangent_k = [keep(valid, k11), keep(valid, k12), keep(valid, k22)];
+    patch.ang_a = ang_a.map(|v| keep3(valid, v));
+    patch.ang_b = ang_b.map(|v| keep3(valid, v));
+    patch.twist_mass = keep(valid & kww.gt(zero), L::splat(1.0) / kww);
+    patch.radius = lanes_of::<L>(|k| frame[k].2);
+    patch.mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
+    patch.valid = valid;
+    let force = V3::<L>::gather(|k| warm[k][0]);
+    let twist = V3::<L>::gather(|k| warm[k][1]);
+    patch.lambda = [keep(valid, force.dot(t1)), keep(valid, force.dot(t2)), keep(valid, twist.dot(n))];
+    patch.lambda_sum = [zero; 3];
 }
 
 /// The slots of `batches` computed from their points in lanes `L`: [`Constraint::new`] for four
@@ -764,12 +776,16 @@ fn load_points_in<L: SolveLanes, const NORMAL_ONLY: bool>(
     batches: &[Batch],
     slot_index: &[[usize; LANES]],
     slots: &mut [Slot<L>],
+    (patches, centres): (&mut [PatchSlot<L>], &mut [DVec3]),
     input: &PointInput,
 ) {
     let bodies = input.bodies;
-    for batch in batches {
-        // the bodies and the manifold of each lane: the same for all the batch's slots
+    for (j, batch) in batches.iter().enumerate() {
+        // the bodies and the manifold of each lane: the same for all the batch's slots and its patch
         let sides = Sides::of(batch, input);
+        if NORMAL_ONLY {
+            load_patch(batch, &mut patches[j], &sides, input, centres);
+        }
         let manifold = |k: usize| (batch.manifold[k] != NONE).then(|| &input.manifolds[batch.manifold[k]]);
         let mu = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.mu));
         let bias_rate = lanes_of::<L>(|k| manifold(k).map_or(0.0, |m| m.softness.bias_rate));
@@ -903,8 +919,7 @@ fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
 #[allow(unsafe_code)]
 mod avx {
     use super::{
-        load_patches_in, load_points_in, sweep_in, warm_start_in, Batch, PatchSlot, PointInput, Slot, SolverBody,
-        Sweep, LANES,
+        load_points_in, sweep_in, warm_start_in, Batch, DVec3, PatchSlot, PointInput, Slot, SolverBody, Sweep, LANES,
     };
     use crate::integrate::lanes::Avx;
     use wide::f64x4;
@@ -928,18 +943,14 @@ mod avx {
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn load_patches(batches: &[Batch], patches: &mut [PatchSlot<Avx>], input: &PointInput) {
-        load_patches_in::<Avx>(batches, patches, input);
-    }
-
-    #[target_feature(enable = "avx2")]
     pub(super) fn load_points<const NORMAL_ONLY: bool>(
         batches: &[Batch],
         slot_index: &[[usize; LANES]],
         slots: &mut [Slot<Avx>],
+        patches: (&mut [PatchSlot<Avx>], &mut [DVec3]),
         input: &PointInput,
     ) {
-        load_points_in::<Avx, NORMAL_ONLY>(batches, slot_index, slots, input);
+        load_points_in::<Avx, NORMAL_ONLY>(batches, slot_index, slots, patches, input);
     }
 
     #[target_feature(enable = "avx2")]
@@ -1033,6 +1044,8 @@ pub struct LaneSolver {
     /// `patch`).
     overflow_patches: Vec<Patch>,
     overflow_patch_sums: Vec<[f64; 3]>,
+    /// The centre of each manifold's points (with `patch`, by manifold; [`patch_centre`]).
+    patch_centres: Vec<DVec3>,
     /// Whether the sweeps run in AVX registers (the CPU has AVX2, found by each build).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx: bool,
@@ -1116,6 +1129,8 @@ impl LaneSolver {
         self.overflow_points.clear();
         self.overflow_manifold.clear();
         self.patch = friction == FrictionModel::Manifold;
+        self.patch_centres.clear();
+        self.patch_centres.resize(if self.patch { manifolds.len() } else { 0 }, DVec3::ZERO);
         self.overflow_patches.clear();
         self.overflow_patch_sums.clear();
         for &g in self.singles.iter().chain(&self.order[self.colour_start[COLOURS]..]) {
@@ -1135,6 +1150,7 @@ impl LaneSolver {
             self.overflow_points.push(m.points.0);
             self.overflow_manifold.push(g);
             if self.patch {
+                self.patch_centres[g] = patch_centre(own).0;
                 self.overflow_patches.push(Patch::new(bodies, positions, m.a, m.b, own, m.mu, m.friction_warm));
                 self.overflow_patch_sums.push([0.0; 3]);
             }
@@ -1151,25 +1167,26 @@ impl LaneSolver {
         if self.patches.len() != patches {
             self.patches.resize(patches, PatchSlot::default());
         }
+        let centres = &mut self.patch_centres;
         #[cfg(target_arch = "x86_64")]
         if self.avx {
             // SAFETY: `layout` found AVX2 on this CPU
             unsafe {
                 let slots = avx::slots(&mut self.slots);
+                let patches = (avx::patches(&mut self.patches), &mut centres[..]);
                 if self.patch {
-                    avx::load_points::<true>(&self.batches, &self.slot_index, slots, &input);
-                    avx::load_patches(&self.batches, avx::patches(&mut self.patches), &input);
+                    avx::load_points::<true>(&self.batches, &self.slot_index, slots, patches, &input);
                 } else {
-                    avx::load_points::<false>(&self.batches, &self.slot_index, slots, &input);
+                    avx::load_points::<false>(&self.batches, &self.slot_index, slots, patches, &input);
                 }
             }
             return;
         }
+        let patches = (&mut self.patches[..], &mut centres[..]);
         if self.patch {
-            load_points_in::<f64x4, true>(&self.batches, &self.slot_index, &mut self.slots, &input);
-            load_patches_in::<f64x4>(&self.batches, &mut self.patches, &input);
+            load_points_in::<f64x4, true>(&self.batches, &self.slot_index, &mut self.slots, patches, &input);
         } else {
-            load_points_in::<f64x4, false>(&self.batches, &self.slot_index, &mut self.slots, &input);
+            load_points_in::<f64x4, false>(&self.batches, &self.slot_index, &mut self.slots, patches, &input);
         }
     }
 
@@ -1571,6 +1588,12 @@ impl LaneSolver {
         for ((p, sum), &g) in self.overflow_patches.iter().zip(&self.overflow_patch_sums).zip(&self.overflow_manifold) {
             f(g, p.n, p.t1, p.t2, p.lambda, *sum);
         }
+    }
+
+    /// The centre of manifold `g`'s points ([`patch_centre`]) as the last
+    /// [`build_points`](Self::build_points) with [`FrictionModel::Manifold`] found it.
+    pub fn patch_centre(&self, g: usize) -> DVec3 {
+        self.patch_centres[g]
     }
 
     /// Copies the lanes' accumulated impulses back to their constraints.

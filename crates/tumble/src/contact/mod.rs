@@ -220,6 +220,8 @@ pub struct ContactStage {
     /// patch at the end of the solve ([`FrictionModel::Manifold`]).
     normal_sums: Vec<f64>,
     patch_results: Vec<Option<PatchResult>>,
+    /// Scratch of `share_patch`: each point's offset from its manifold's centre across the normal.
+    across: Vec<DVec3>,
     /// Each contact's accumulated impulses at the end of the step (N·s); aligned with `contacts`.
     lambdas: Vec<[f64; 3]>,
     /// Per contact: both bodies fixed or asleep (kept from when they fell asleep, not solved).
@@ -761,7 +763,7 @@ impl ContactStage {
             self.patch_results.resize(self.manifolds.len(), None);
             let results = &mut self.patch_results;
             lanes.for_each_patch(|g, n, t1, t2, lambda, sum| results[g] = Some((n, t1, t2, lambda, sum)));
-            for (m, result) in self.manifolds.iter().zip(&self.patch_results) {
+            for (g, (m, result)) in self.manifolds.iter().zip(&self.patch_results).enumerate() {
                 let Some((n, t1, t2, lambda, sum)) = *result else { continue };
                 self.previous_patches.push(PreviousPatch {
                     a: m.a,
@@ -770,11 +772,11 @@ impl ContactStage {
                 });
                 let rows = m.points.0..m.points.1;
                 share_patch(
-                    &self.points[rows.clone()],
+                    (&self.points[rows.clone()], self.lanes.patch_centre(g)),
                     &self.normal_sums[rows.clone()],
                     n,
-                    sum[0] * t1 + sum[1] * t2,
-                    sum[2],
+                    (sum[0] * t1 + sum[1] * t2, sum[2]),
+                    &mut self.across,
                     |j, impulse| self.impulses[self.constrained[rows.start + j]] += impulse,
                 );
             }
@@ -825,23 +827,23 @@ impl ContactStage {
 /// the normal: they add up to no force and to the twist's moment `τ n` about the centre (exactly when
 /// the points lie in the plane across `n`). `f(j, impulse)` for the `j`-th point.
 fn share_patch(
-    points: &[ContactPoint],
+    (points, centre): (&[ContactPoint], DVec3),
     normal_sums: &[f64],
     n: DVec3,
-    friction: DVec3,
-    twist: f64,
+    (friction, twist): (DVec3, f64),
+    across: &mut Vec<DVec3>,
     mut f: impl FnMut(usize, DVec3),
 ) {
-    let (centre, _) = solver::patch_centre(points);
-    let across = |p: &ContactPoint| {
+    across.clear();
+    across.extend(points.iter().map(|p| {
         let d = p.point - centre;
         d - d.dot(n) * n
-    };
-    let arm_squared: f64 = points.iter().map(|p| across(p).length_squared()).sum();
+    }));
+    let arm_squared: f64 = across.iter().map(|d| d.length_squared()).sum();
     let total: f64 = normal_sums.iter().sum();
-    for (j, (p, &normal)) in points.iter().zip(normal_sums).enumerate() {
+    for (j, (d, &normal)) in across.iter().zip(normal_sums).enumerate() {
         let share = if total > 0.0 { normal / total } else { 1.0 / points.len() as f64 };
-        let turn = if arm_squared > 0.0 { (twist / arm_squared) * n.cross(across(p)) } else { DVec3::ZERO };
+        let turn = if arm_squared > 0.0 { (twist / arm_squared) * n.cross(*d) } else { DVec3::ZERO };
         f(j, share * friction + turn);
     }
 }
