@@ -866,17 +866,17 @@ fn load_slot<L: SolveLanes, const NORMAL_ONLY: bool, const FULL: bool>(
     slot.separation = slot.measure(ma, mb);
     if NORMAL_ONLY {
         // the normal row alone (its patch takes the friction): no tangents, zeros in the
-        // friction's fields
+        // tangents and the tangential impulses (which the normal row's sweeps, the sums over the
+        // substeps and the points' impulses read); the other fields of friction (the tangent rows'
+        // masses and angular responses) are read by no pass over normal rows and are left as
+        // they are, unwritten
         let (ang_a, ang_b) = (mat_vec(inertia_a, r_a.cross(n)), mat_vec(inertia_b, r_b.cross(n)));
         let knn = n.dot(k_times(n, inv_mass, [ang_a, ang_b], r_a, r_b));
         slot.normal_mass = keep(valid & knn.gt(zero), L::splat(1.0) / knn);
         let none = V3 { x: zero, y: zero, z: zero };
-        slot.ang_a = [kept3::<L, FULL>(valid, ang_a), none, none];
-        slot.ang_b = [kept3::<L, FULL>(valid, ang_b), none, none];
+        slot.ang_a[0] = kept3::<L, FULL>(valid, ang_a);
+        slot.ang_b[0] = kept3::<L, FULL>(valid, ang_b);
         (slot.t1, slot.t2) = (none, none);
-        slot.tangent_mass = [zero; 4];
-        slot.tangent_per_normal = [zero; 2];
-        slot.tangent_k = [zero; 3];
         slot.lambda = [kept::<L, FULL>(valid, lanes_of::<L>(|k| p(k).lambda[0])), zero, zero];
         return;
     }
@@ -1155,8 +1155,8 @@ impl LaneSolver {
                 self.overflow_patch_sums.push([0.0; 3]);
             }
         }
-        // every field of every slot is written below: the slots of the last step are overwritten,
-        // not zeroed first
+        // every field of every slot that a pass reads is written below: the slots of the last step
+        // are overwritten, not zeroed first (normal rows alone leave the tangent rows' fields)
         let count = self.slot_index.len();
         if self.slots.len() != count {
             self.slots.resize(count, Slot::default());
