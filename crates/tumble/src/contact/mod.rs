@@ -151,16 +151,6 @@ pub struct ContactEnergy {
     pub friction: f64,
 }
 
-/// A contact point of the previous step and its accumulated impulses `λ_n, λ_t1, λ_t2` (N·s).
-#[derive(Debug, Clone, Copy)]
-struct Previous {
-    a: usize,
-    b: usize,
-    features: (u64, u64),
-    point_world: DVec3,
-    lambda: [f64; 3],
-}
-
 /// A manifold's friction patch of the previous step ([`FrictionModel::Manifold`]): its friction
 /// impulse and twist's angular impulse, world frame (N·s, N·m·s).
 #[derive(Debug, Clone, Copy)]
@@ -212,8 +202,14 @@ pub struct ContactStage {
     /// Kinetic plus potential energy of each held body before the resting impulses (J).
     energy_before: Vec<f64>,
     gravity: DVec3,
-    /// The previous step's contacts and their impulses, sorted by pair (warm starting).
-    previous: Vec<Previous>,
+    /// The previous step's contacts and their accumulated impulses `λ_n, λ_t1, λ_t2` (N·s), sorted
+    /// by pair (warm starting). While `previous_pending`, they are `contacts` and `lambdas`
+    /// themselves, not yet copied here: the next step's list takes their buffers over, swapped
+    /// rather than copied, or copies them before changing them.
+    previous: Vec<Contact>,
+    previous_lambdas: Vec<[f64; 3]>,
+    /// `contacts` and `lambdas` are the previous step's (sorted by pair), not copied to `previous`.
+    previous_pending: bool,
     /// The previous step's friction patches, sorted by pair ([`FrictionModel::Manifold`]).
     previous_patches: Vec<PreviousPatch>,
     /// Per point of `points`, its normal impulse summed over the substeps, and per manifold its
@@ -354,6 +350,7 @@ impl ContactStage {
         self.solved = false;
         self.rest = None;
         if !settings.enabled || (bodies.is_empty() && self.links.colliders.is_empty()) {
+            self.settle_previous();
             self.contacts.clear();
             self.impulses.clear();
             self.lambdas.clear();
@@ -384,6 +381,7 @@ impl ContactStage {
         if self.pairs_over_budget().is_some() {
             // the step fails (`World::step`): nothing is solved
             self.fresh = fresh;
+            self.settle_previous();
             self.contacts.clear();
             self.impulses.clear();
             self.lambdas.clear();
@@ -435,7 +433,9 @@ impl ContactStage {
             }
         }
         if self.contacts.is_empty() && self.links.is_empty() {
+            self.previous_pending = false;
             self.previous.clear();
+            self.previous_lambdas.clear();
             self.previous_patches.clear();
             self.links.clear();
             return;
@@ -506,13 +506,21 @@ impl ContactStage {
     /// accumulated impulses.
     /// `fresh` is left with no meaning (the narrow phase clears it).
     fn merge_frozen(&mut self, bodies: &[RigidBody], fresh: &mut Vec<Contact>) {
+        if self.sleep.frozen.is_empty() && self.previous_pending {
+            // the last step's contacts and impulses become the previous ones: their buffers are
+            // swapped in (the buffers of the ones before are reused for this step's lists)
+            std::mem::swap(&mut self.previous, &mut self.contacts);
+            std::mem::swap(&mut self.previous_lambdas, &mut self.lambdas);
+            self.previous_pending = false;
+        }
+        self.settle_previous();
         self.contacts.clear();
         self.impulses.clear();
         self.lambdas.clear();
         self.frozen.clear();
         if self.sleep.frozen.is_empty() {
             // nothing kept (nobody asleep): the narrow phase's list is the step's, its buffer and
-            // the last step's swapped rather than copied
+            // the last one's swapped rather than copied
             std::mem::swap(&mut self.contacts, fresh);
             let n = self.contacts.len();
             self.impulses.resize(n, DVec3::ZERO);
@@ -575,6 +583,25 @@ impl ContactStage {
         }
     }
 
+    /// Copies the last solved step's contacts and impulses to `previous` if they are still
+    /// `contacts` and `lambdas` (before those change), sorted by pair: the contacts come grouped
+    /// by pair, in pair order (`Colliders::find_contacts`); a stable sort keeps the order within a
+    /// pair otherwise.
+    fn settle_previous(&mut self) {
+        if !self.previous_pending {
+            return;
+        }
+        self.previous_pending = false;
+        self.previous.clone_from(&self.contacts);
+        self.previous_lambdas.clone_from(&self.lambdas);
+        if !self.previous.is_sorted_by_key(|c| (c.a, c.b)) {
+            let mut both: Vec<(Contact, [f64; 3])> =
+                self.previous.iter().copied().zip(self.previous_lambdas.iter().copied()).collect();
+            both.sort_by_key(|(c, _)| (c.a, c.b));
+            (self.previous, self.previous_lambdas) = both.into_iter().unzip();
+        }
+    }
+
     /// The solver's copy of the bodies: inverse mass and world inverse inertia, velocities, and the
     /// acceleration of the constant world forces, `s_g g + F_world/m` (m/s²).
     fn load_bodies(&mut self, bodies: &[RigidBody], gravity: DVec3) {
@@ -625,7 +652,8 @@ impl ContactStage {
         self.manifolds.clear();
         self.points.clear();
         self.constrained.clear();
-        let mut warm = WarmStarts::new(&self.previous);
+        debug_assert!(!self.previous_pending);
+        let mut warm = WarmStarts::new(&self.previous, &self.previous_lambdas);
         let per_manifold = settings.friction_model == FrictionModel::Manifold;
         let mut patches = self.previous_patches.iter().peekable();
         for (ci, c) in self.contacts.iter().enumerate() {
@@ -785,14 +813,12 @@ impl ContactStage {
             links.store_elastic_energy(&self.bodies, slop);
             links.finish(robots, dt);
         }
-        self.previous.clear();
-        for (c, &lambda) in self.contacts.iter().zip(&self.lambdas) {
-            self.previous.push(Previous { a: c.a, b: c.b, features: c.features, point_world: c.point_world, lambda });
-        }
-        // the contacts come grouped by pair, in pair order (`Colliders::find_contacts`); a stable
-        // sort keeps the order within a pair otherwise
-        if !self.previous.is_sorted_by_key(|p| (p.a, p.b)) {
-            self.previous.sort_by_key(|p| (p.a, p.b));
+        // the contacts and their impulses are the next step's previous ones, copied only if the
+        // next step's list does not take their buffers over (`settle_previous`; now if they are
+        // out of pair order, to be sorted)
+        self.previous_pending = true;
+        if !self.contacts.is_sorted_by_key(|c| (c.a, c.b)) {
+            self.settle_previous();
         }
         // a body the impulses reached: its velocity change goes in at the start of the step, so
         // that the integration ends at the solver's velocity; its motion is the substeps' (`finish`)
@@ -870,17 +896,17 @@ pub(super) const WARM_MATCH_DISTANCE: f64 = 0.02;
 /// this step's tangents), or else, when parry renumbered the features (a clipped manifold changes
 /// its points), those of the nearest point of the same pair within [`WARM_MATCH_DISTANCE`].
 /// `previous` is sorted by pair and `start` is the first entry not of an earlier pair than `c`'s.
-fn previous_impulse(previous: &[Previous], start: usize, c: &Contact) -> Option<[f64; 3]> {
-    let pair = previous[start..].iter().take_while(|p| (p.a, p.b) == (c.a, c.b));
+fn previous_impulse(previous: &[Contact], lambdas: &[[f64; 3]], start: usize, c: &Contact) -> Option<[f64; 3]> {
+    let pair = previous[start..].iter().zip(&lambdas[start..]).take_while(|(p, _)| (p.a, p.b) == (c.a, c.b));
     // the features first (the common case, with no distance computed), then the nearest point
-    if let Some(p) = pair.clone().find(|p| p.features == c.features) {
-        return Some(p.lambda);
+    if let Some((_, lambda)) = pair.clone().find(|(p, _)| p.features == c.features) {
+        return Some(*lambda);
     }
     let mut best: Option<(f64, [f64; 3])> = None;
-    for p in pair {
+    for (p, lambda) in pair {
         let d = (p.point_world - c.point_world).length_squared();
         if d <= WARM_MATCH_DISTANCE * WARM_MATCH_DISTANCE && best.is_none_or(|b| d < b.0) {
-            best = Some((d, p.lambda));
+            best = Some((d, *lambda));
         }
     }
     best.map(|b| b.1)
@@ -890,20 +916,21 @@ fn previous_impulse(previous: &[Previous], start: usize, c: &Contact) -> Option<
 /// contacts come in pair order too, so a cursor that only moves forward finds each pair's first
 /// previous point in one pass over both lists (a contact out of order is looked up by bisection).
 struct WarmStarts<'a> {
-    previous: &'a [Previous],
+    previous: &'a [Contact],
+    lambdas: &'a [[f64; 3]],
     /// The first previous point of a pair not before the last contact's.
     cursor: usize,
 }
 
 impl<'a> WarmStarts<'a> {
-    fn new(previous: &'a [Previous]) -> Self {
-        Self { previous, cursor: 0 }
+    fn new(previous: &'a [Contact], lambdas: &'a [[f64; 3]]) -> Self {
+        Self { previous, lambdas, cursor: 0 }
     }
 
     /// See [`previous_impulse`].
     fn find(&mut self, c: &Contact) -> Option<[f64; 3]> {
         let key = (c.a, c.b);
-        let before = |p: &Previous| (p.a, p.b) < key;
+        let before = |p: &Contact| (p.a, p.b) < key;
         if self.cursor > 0 && !before(&self.previous[self.cursor - 1]) {
             // out of pair order: start again from the first previous point of the pair
             self.cursor = self.previous.partition_point(before);
@@ -911,7 +938,7 @@ impl<'a> WarmStarts<'a> {
         while self.cursor < self.previous.len() && before(&self.previous[self.cursor]) {
             self.cursor += 1;
         }
-        previous_impulse(self.previous, self.cursor, c)
+        previous_impulse(self.previous, self.lambdas, self.cursor, c)
     }
 }
 
@@ -971,4 +998,42 @@ pub fn validate(s: &ContactSettings) -> Result<(), (&'static str, &'static str, 
         return Err(("contact_substeps", "must be in 1..=10000", s.substeps.to_string()));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Contact, ContactStage};
+    use crate::math::DVec3;
+
+    fn contact(a: usize, b: usize, k: u64) -> Contact {
+        Contact { a, b, point_world: DVec3::splat(k as f64), normal_world: DVec3::Z, gap: 0.0, features: (k, k) }
+    }
+
+    /// The last step's contacts, kept as they are for the warm starts of the next step, become
+    /// the previous ones sorted by pair, each with its own impulses (the order within a pair
+    /// kept), when copied before they change; and a warm start then finds each one's impulses.
+    #[test]
+    fn the_previous_contacts_are_copied_sorted_with_their_impulses() {
+        let mut stage = ContactStage::default();
+        let pairs = [(2, 3), (0, 1), (2, 3), (0, 5), (0, 1)];
+        stage.contacts = pairs.iter().enumerate().map(|(k, &(a, b))| contact(a, b, k as u64)).collect();
+        stage.lambdas = (0..pairs.len()).map(|k| [k as f64, 10.0 + k as f64, 20.0 + k as f64]).collect();
+        stage.previous_pending = true;
+        stage.settle_previous();
+        assert!(!stage.previous_pending);
+        let order: Vec<u64> = stage.previous.iter().map(|c| c.features.0).collect();
+        assert_eq!(order, [1, 4, 3, 0, 2]);
+        for (c, lambda) in stage.previous.iter().zip(&stage.previous_lambdas) {
+            assert_eq!(lambda[0], c.features.0 as f64);
+        }
+        // a second settle copies nothing again
+        stage.contacts.clear();
+        stage.settle_previous();
+        assert_eq!(stage.previous.len(), pairs.len());
+        let mut warm = super::WarmStarts::new(&stage.previous, &stage.previous_lambdas);
+        for k in [1, 4, 3, 0, 2] {
+            let (a, b) = pairs[k as usize];
+            assert_eq!(warm.find(&contact(a, b, k)), Some([k as f64, 10.0 + k as f64, 20.0 + k as f64]));
+        }
+    }
 }
