@@ -332,18 +332,23 @@ mod tests {
     use crate::contact::ContactStage;
     use crate::math::DVec3;
 
+    /// Numbers uniform in [0, 1) from `seed` (xorshift64).
+    fn uniform(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     /// The bound holds the approach speed `−(u₀ + Δa t)·n` of `schedule` (as `approach` computes
     /// `u₀`) at every `t` of the step, for random velocities, accelerations, points, normals, steps and
     /// position leads; and it is tight enough to skip a resting contact.
     #[test]
     fn the_approach_bound_holds_the_approach_speed() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut unit = uniform(0x2545_f491_4f6c_dd1d);
+        let mut next = move || unit() * 2.0 - 1.0;
         let mut vec = |scale: f64| DVec3::new(next() * scale, next() * scale, next() * scale);
         for k in 0..20_000 {
             let scale = [1e-3, 0.1, 1.0, 10.0][k % 4];
@@ -380,13 +385,7 @@ mod tests {
     /// speeds near the largest point bound, where the two checks are closest.
     #[test]
     fn a_pair_below_at_its_farthest_points_is_below_at_each() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         let (mut skipped, mut kept) = (0, 0);
         for k in 0..20_000 {
             let centres = (DVec3::new(next(), next(), next()), DVec3::new(next(), next(), 1.0 + next()));

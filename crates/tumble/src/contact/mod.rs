@@ -897,7 +897,8 @@ pub(super) const WARM_MATCH_DISTANCE: f64 = 0.02;
 /// same pair with the same features (the normal impulse, and the friction impulse taken as it is in
 /// this step's tangents), or else, when parry renumbered the features (a clipped manifold changes
 /// its points), those of the nearest point of the same pair within [`WARM_MATCH_DISTANCE`].
-/// `previous` is sorted by pair and `start` is the first entry not of an earlier pair than `c`'s.
+/// `previous` is sorted by pair, `lambdas` its impulses, and `start` the first entry not of an
+/// earlier pair than `c`'s.
 fn previous_impulse(previous: &[Contact], lambdas: &[[f64; 3]], start: usize, c: &Contact) -> Option<[f64; 3]> {
     let pair = previous[start..].iter().zip(&lambdas[start..]).take_while(|(p, _)| (p.a, p.b) == (c.a, c.b));
     // the features first (the common case, with no distance computed), then the nearest point
